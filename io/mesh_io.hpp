@@ -1,0 +1,34 @@
+#pragma once
+// Mesh files through OpenMesh's readers and writers (DESIGN §3 output).
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "mesh/types.hpp"
+#include "mesh/validate.hpp"
+
+namespace lhr {
+
+// What `lhr` exports: conforming triangles of all surfaces in one file, with
+// per-vertex display colour and linear radiance.
+struct ExportMesh {
+  std::vector<Vec3> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::array<std::uint8_t, 3>> colours;  // per vertex, empty = grey
+  std::vector<Rgb> radiance;                         // per vertex, empty = zero
+};
+
+// Appends a surface's conforming mesh; radiance per mesh vertex may be empty.
+void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rgb>& radiance = {});
+
+// By extension: .ply (binary, x y z, red green blue uchar, radiance_r/g/b
+// float) or .off (COFF). Written atomically. Throws std::runtime_error.
+void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh);
+
+// Reads a PLY/OFF exactly as stored (no vertex merging, no face repair),
+// through OpenMesh's readers. Throws InputError.
+RawMesh read_raw_mesh(const std::filesystem::path& path);
+
+}  // namespace lhr

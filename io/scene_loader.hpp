@@ -1,0 +1,30 @@
+#pragma once
+// Scene loading (DESIGN §3): NAME.scene.json with camera and settings, or a
+// bare OBJ/MTL, PLY or OFF. All errors are InputError with one line naming
+// file and line/element.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/input_error.hpp"
+#include "mesh/scene.hpp"
+
+namespace lhr {
+
+struct LoadOptions {
+  std::optional<double> crease_angle_deg;  // overrides the scene file
+};
+
+struct LoadResult {
+  Scene scene;
+  std::vector<std::string> warnings;  // e.g. "dropped 3 zero-area faces"
+};
+
+LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// The polygon soup of one geometry file (OBJ with its MTL, PLY, OFF), validated.
+PolygonSoup load_polygon_soup(const std::filesystem::path& path);
+
+}  // namespace lhr

@@ -1,0 +1,2 @@
+#include "mesh/hierarchy.hpp"
+// quadtree: to be implemented

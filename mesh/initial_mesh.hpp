@@ -1,0 +1,24 @@
+#pragma once
+// Initial meshing to a minimum density (paper §4.1, fig. 6c; DESIGN §4).
+
+#include "mesh/scene.hpp"
+#include "mesh/types.hpp"
+
+namespace lhr {
+
+struct MeshingOptions {
+  double max_edge = 0.0;          // h: no output edge longer than this (plus rounding)
+  double min_angle_deg = 20.0;    // lower bound on every angle the input boundary does not force smaller
+};
+
+// h when the user gives none: a fraction of the scene's bounding-box diagonal.
+double default_max_edge(const Scene& scene);
+
+// Planar surfaces: constrained Delaunay meshing of the surface's region
+// (holes kept), boundary vertices and edges preserved. Curved surfaces:
+// isotropic remeshing to h with boundary and sharp features preserved.
+// Faces are counter-clockwise seen from the surface's front.
+// Throws std::runtime_error naming the surface when meshing fails.
+TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options);
+
+}  // namespace lhr

@@ -1,0 +1,73 @@
+#include "test_support.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace lhr::test {
+
+namespace {
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += "'\\''";
+    else q += c;
+  }
+  return q + "'";
+}
+
+}  // namespace
+
+CommandResult run_lhr(const std::vector<std::string>& args) {
+  const std::filesystem::path dir = fresh_dir("run_lhr_capture");
+  const auto out_file = dir / "stdout";
+  const auto err_file = dir / "stderr";
+  std::ostringstream command;
+  command << shell_quote(LHR_EXECUTABLE);
+  for (const std::string& a : args) command << ' ' << shell_quote(a);
+  command << " </dev/null >" << shell_quote(out_file.string()) << " 2>" << shell_quote(err_file.string());
+  const int status = std::system(command.str().c_str());
+  CommandResult r;
+  // The shell reports a child killed by signal N as exit status 128+N.
+  if (status != -1 && WIFEXITED(status) && WEXITSTATUS(status) < 128) r.exit_code = WEXITSTATUS(status);
+  r.out = read_text(out_file);
+  r.err = read_text(err_file);
+  return r;
+}
+
+std::filesystem::path source_dir() { return LHR_SOURCE_DIR; }
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("lhr-test-" + std::to_string(::getpid())) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+int count_lines(const std::string& text) {
+  int n = 0;
+  for (char c : text) n += (c == '\n');
+  if (!text.empty() && text.back() != '\n') ++n;
+  return n;
+}
+
+}  // namespace lhr::test

@@ -1,0 +1,27 @@
+#pragma once
+// Helpers shared by the test executables.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace lhr::test {
+
+struct CommandResult {
+  int exit_code = -1;  // -1 when the process did not exit normally (crash, signal)
+  std::string out;
+  std::string err;
+};
+
+// Runs the built `lhr` executable with args, capturing stdout and stderr.
+CommandResult run_lhr(const std::vector<std::string>& args);
+
+std::filesystem::path source_dir();
+// A fresh, empty directory for one test, removed and recreated on each call.
+std::filesystem::path fresh_dir(const std::string& name);
+void write_text(const std::filesystem::path& path, const std::string& text);
+std::string read_text(const std::filesystem::path& path);
+// Number of lines of text (for one-line error messages).
+int count_lines(const std::string& text);
+
+}  // namespace lhr::test

@@ -39,7 +39,7 @@ std::vector<Violation> check_conforming_mesh(const RawMesh& mesh,
 
 // Restricted property (leaves sharing an edge differ by <= 1 level),
 // parent/child consistency, midpoints shared and placed at edge midpoints,
-// T-vertex bookkeeping.
+// T-vertex bookkeeping. Implemented beside the hierarchy (hierarchy.cpp).
 std::vector<Violation> check_hierarchy(const SurfaceHierarchy& hierarchy);
 
 // One line per violation, for reports.

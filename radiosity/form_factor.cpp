@@ -1,0 +1,108 @@
+#include "radiosity/form_factor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace lhr {
+
+namespace {
+
+// Relative distance (to the polygon's size) under which x counts as lying on
+// the shooter's plane or boundary, where the contour integrand is singular.
+constexpr double kSingularTolerance = 1e-9;
+// Relative step along the approach direction used to take the limit there.
+// The form factor is Lipschitz along a path inside the receiver, so the
+// error is of this order.
+constexpr double kApproachStep = 1e-8;
+
+Vec3 newell_normal(std::span<const Vec3> polygon) {
+  Vec3 n(0, 0, 0);
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3& a = polygon[i];
+    const Vec3& b = polygon[(i + 1) % polygon.size()];
+    n += OpenMesh::cross(a, b);
+  }
+  return n;
+}
+
+double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.sqrnorm();
+  const double t = len2 > 0 ? std::clamp(OpenMesh::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+// Sutherland–Hodgman against the half-space n·(p − x) ≥ 0: cosθx < 0 carries no energy,
+// and Lambert's formula holds only for a polygon wholly above the tangent plane.
+std::vector<Vec3> clip_above(std::span<const Vec3> polygon, const Vec3& x, const Vec3& n) {
+  std::vector<Vec3> out;
+  out.reserve(polygon.size() + 2);
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3& a = polygon[i];
+    const Vec3& b = polygon[(i + 1) % polygon.size()];
+    const double da = OpenMesh::dot(n, a - x);
+    const double db = OpenMesh::dot(n, b - x);
+    if (da >= 0) out.push_back(a);
+    if ((da >= 0) != (db >= 0)) out.push_back(a + (da / (da - db)) * (b - a));
+  }
+  return out;
+}
+
+// Lambert: F = −1/(2π) Σ_edges β_i (n · (R_i × R_{i+1})) / |R_i × R_{i+1}|
+// for vertices counter-clockwise from the front (the minus makes front-facing positive).
+double contour_integral(const Vec3& x, const Vec3& n, const std::vector<Vec3>& polygon) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3 a = polygon[i] - x;
+    const Vec3 b = polygon[(i + 1) % polygon.size()] - x;
+    const Vec3 c = OpenMesh::cross(a, b);
+    const double c_norm = c.norm();
+    // x collinear with the edge: β is 0 or the edge is degenerate; the term vanishes.
+    if (!(c_norm > 1e-300)) continue;
+    const double beta = std::atan2(c_norm, OpenMesh::dot(a, b));
+    sum += beta * OpenMesh::dot(n, c) / c_norm;
+  }
+  return -sum / (2.0 * M_PI);
+}
+
+}  // namespace
+
+double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon,
+                                 const Vec3* approach) {
+  if (polygon.size() < 3) return 0.0;
+  const Vec3 area_normal = newell_normal(polygon);
+  const double twice_area = area_normal.norm();
+  if (!(twice_area > 0)) return 0.0;
+  const Vec3 shooter_normal = area_normal / twice_area;
+
+  double size = 0.0;
+  for (const Vec3& p : polygon) size = std::max(size, (p - polygon[0]).norm());
+  const double tolerance = kSingularTolerance * size;
+
+  double nearest_edge = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    nearest_edge = std::min(nearest_edge, distance_to_segment(x, polygon[i], polygon[(i + 1) % polygon.size()]));
+  }
+  const double height = OpenMesh::dot(shooter_normal, x - polygon[0]);
+
+  Vec3 eval_point = x;
+  if (std::abs(height) <= tolerance || nearest_edge <= tolerance) {
+    // Singular configuration: take the limit along the approach direction,
+    // projected into x's tangent plane so the path stays on the receiver.
+    Vec3 d = approach ? *approach : shooter_normal;
+    d -= OpenMesh::dot(d, n) * n;
+    const double d_norm = d.norm();
+    // Coplanar with the shooter and no in-plane way off it: cosθy = 0 everywhere.
+    if (!(d_norm > 1e-12 * std::max(1.0, approach ? approach->norm() : 1.0))) return 0.0;
+    eval_point = x + (kApproachStep * size / d_norm) * d;
+  }
+  if (OpenMesh::dot(shooter_normal, eval_point - polygon[0]) <= 0.0) return 0.0;  // behind the shooter
+
+  const std::vector<Vec3> clipped = clip_above(polygon, eval_point, n);
+  if (clipped.size() < 3) return 0.0;
+  return std::clamp(contour_integral(eval_point, n, clipped), 0.0, 1.0);
+}
+
+}  // namespace lhr

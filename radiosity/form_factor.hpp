@@ -1,0 +1,30 @@
+#pragma once
+// Unoccluded point-to-polygon form factors (DESIGN §4 "Linear basis, point
+// collocation": Σ_l F^l(x,j) is the exact point-to-triangle form factor).
+
+#include <array>
+#include <span>
+
+#include "mesh/types.hpp"
+
+namespace lhr {
+
+// Form factor from a differential area at x with unit normal n to a planar
+// polygon, without occlusion: ∫ cosθx cosθy / (π r²) dA over the part of the
+// polygon above x's tangent plane and seen from its front (vertices
+// counter-clockwise seen from the front). Lambert's contour formula.
+//
+// Receivers on the shooter's plane or boundary (a floor vertex in a
+// wall–floor corner) have no value of their own there; the result is the
+// limit as x approaches along `approach` (a direction in x's tangent plane,
+// e.g. toward the receiver element's interior). Without one, x approaches
+// from the shooter's front. Always finite, in [0, 1].
+double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon,
+                                 const Vec3* approach = nullptr);
+
+inline double point_triangle_form_factor(const Vec3& x, const Vec3& n, const std::array<Vec3, 3>& triangle,
+                                         const Vec3* approach = nullptr) {
+  return point_polygon_form_factor(x, n, std::span<const Vec3>(triangle.data(), 3), approach);
+}
+
+}  // namespace lhr

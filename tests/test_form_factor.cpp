@@ -1,0 +1,114 @@
+// Point-to-polygon form factors against closed forms from Howell's catalogue
+// of radiation configuration factors.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "radiosity/form_factor.hpp"
+
+namespace lhr {
+namespace {
+
+// Howell B-2: element parallel to a rectangle a×b at distance c, on the
+// normal through one corner.
+double howell_parallel_corner(double a, double b, double c) {
+  const double A = a / c, B = b / c;
+  const double sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+  return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * M_PI);
+}
+
+// Howell B-3: element in a plane perpendicular to a rectangle (side a along
+// the planes' intersection, side b away from the element's plane), on the
+// normal to the rectangle through one corner, at distance c.
+double howell_perpendicular_corner(double a, double b, double c) {
+  const double X = b / a, Y = c / a;
+  const double r = std::sqrt(X * X + Y * Y);
+  return (std::atan(1 / Y) - Y / r * std::atan(1 / r)) / (2 * M_PI);
+}
+
+// Rectangle facing −z (front toward a receiver below), counter-clockwise from the front.
+std::vector<Vec3> rectangle_facing_down(double a, double b, double z) {
+  return {Vec3(0, 0, z), Vec3(0, b, z), Vec3(a, b, z), Vec3(a, 0, z)};
+}
+
+TEST(FormFactor, ParallelRectangleMatchesHowell) {
+  for (const auto& [a, b, c] : {std::array{1.0, 1.0, 1.0}, std::array{1.3, 0.7, 0.9},
+                                std::array{5.0, 0.2, 0.3}, std::array{0.01, 0.02, 1.0}}) {
+    const auto rect = rectangle_facing_down(a, b, c);
+    const double f = point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1), rect);
+    EXPECT_NEAR(f, howell_parallel_corner(a, b, c), 1e-6) << a << " " << b << " " << c;
+  }
+}
+
+TEST(FormFactor, PerpendicularRectangleMatchesHowell) {
+  for (const auto& [a, b, c] : {std::array{1.0, 1.0, 1.0}, std::array{1.3, 0.7, 0.9},
+                                std::array{0.2, 3.0, 0.05}}) {
+    // Rectangle in the plane y = c, x ∈ [0,a], z ∈ [0,b], facing −y toward the element at the origin.
+    const std::vector<Vec3> rect{Vec3(0, c, 0), Vec3(a, c, 0), Vec3(a, c, b), Vec3(0, c, b)};
+    const double f = point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1), rect);
+    EXPECT_NEAR(f, howell_perpendicular_corner(a, b, c), 1e-6) << a << " " << b << " " << c;
+  }
+}
+
+TEST(FormFactor, TrianglesOfARectangleAddUp) {
+  const auto rect = rectangle_facing_down(1.3, 0.7, 0.9);
+  const Vec3 x(0.2, -0.4, 0.0), n(0, 0, 1);
+  const double whole = point_polygon_form_factor(x, n, rect);
+  const double halves = point_triangle_form_factor(x, n, {rect[0], rect[1], rect[2]}) +
+                        point_triangle_form_factor(x, n, {rect[0], rect[2], rect[3]});
+  EXPECT_NEAR(whole, halves, 1e-12);
+}
+
+TEST(FormFactor, BackFacingAndBelowTheHorizonGiveZero) {
+  const auto down = rectangle_facing_down(1, 1, 1);
+  const std::vector<Vec3> up(down.rbegin(), down.rend());
+  EXPECT_EQ(point_polygon_form_factor(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), up), 0.0);
+  EXPECT_EQ(point_polygon_form_factor(Vec3(0.5, 0.5, 2), Vec3(0, 0, 1), down), 0.0);
+}
+
+TEST(FormFactor, ClipsThePartBelowTheTangentPlane) {
+  // A wall crossing the receiver's plane: only the part above it counts,
+  // so the answer is Howell B-3 for the upper half.
+  const double a = 1.0, b = 0.8, c = 0.6;
+  const std::vector<Vec3> wall{Vec3(0, c, -b), Vec3(a, c, -b), Vec3(a, c, b), Vec3(0, c, b)};  // faces −y
+  EXPECT_NEAR(point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1), wall), howell_perpendicular_corner(a, b, c),
+              1e-9);
+}
+
+TEST(FormFactor, WallFloorCornerIsTheFiniteLimit) {
+  // Floor point on the base of a wall (x on the shooter's plane and edge):
+  // Howell B-3 with c → 0 gives 1/4 at the base's end and 1/2 inside it.
+  const std::vector<Vec3> wall{Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0)};  // faces +y
+  const Vec3 up(0, 0, 1);
+  const double inside = point_polygon_form_factor(Vec3(0.5, 0, 0), up, wall);
+  const double end = point_polygon_form_factor(Vec3(0, 0, 0), up, wall);
+  EXPECT_TRUE(std::isfinite(inside));
+  EXPECT_TRUE(std::isfinite(end));
+  // The exact limit for the square: two B-3 rectangles 0.5×1 at distance → 0.
+  EXPECT_NEAR(inside, 2 * howell_perpendicular_corner(0.5, 1.0, 1e-12), 1e-6);
+  EXPECT_NEAR(end, howell_perpendicular_corner(1.0, 1.0, 1e-12), 1e-6);
+  // Continuity: points approaching along the floor converge to the same value.
+  EXPECT_NEAR(point_polygon_form_factor(Vec3(0.5, 1e-7, 0), up, wall), inside, 1e-5);
+  // Behind the wall the floor sees its back: nothing.
+  EXPECT_EQ(point_polygon_form_factor(Vec3(0.5, -1e-7, 0), up, wall), 0.0);
+}
+
+TEST(FormFactor, CoplanarShooterContributesNothing) {
+  const std::vector<Vec3> tile{Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(3, 1, 0), Vec3(2, 1, 0)};  // faces +z
+  EXPECT_EQ(point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1), tile), 0.0);
+  EXPECT_EQ(point_polygon_form_factor(Vec3(2, 0.5, 0), Vec3(0, 0, 1), tile), 0.0);
+}
+
+TEST(FormFactor, HemisphereCoveringPolygonApproachesOne) {
+  // A huge parallel square centred over x: F → 1 as it grows.
+  const double s = 1e4;
+  const std::vector<Vec3> big{Vec3(-s, -s, 1), Vec3(-s, s, 1), Vec3(s, s, 1), Vec3(s, -s, 1)};
+  const double f = point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1), big);
+  EXPECT_GT(f, 0.9999);
+  EXPECT_LE(f, 1.0);
+}
+
+}  // namespace
+}  // namespace lhr

@@ -1,0 +1,131 @@
+#include "radiosity/ray_scene.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace lhr {
+
+namespace {
+
+// Embree stores float coordinates: a hit is exact to about 1e-7 of the
+// coordinates' magnitude, so lifts must exceed that with margin.
+constexpr double kRelativeEpsilon = 1e-5;
+
+void throw_on_error(RTCDevice device, const char* what) {
+  const RTCError error = rtcGetDeviceError(device);
+  if (error != RTC_ERROR_NONE) {
+    throw std::runtime_error(std::string("Embree failed while ") + what + " (error " +
+                             std::to_string(static_cast<int>(error)) + ")");
+  }
+}
+
+RTCRay make_segment_ray(const Vec3& from, const Vec3& to) {
+  RTCRay ray{};
+  const Vec3 d = to - from;
+  ray.org_x = static_cast<float>(from[0]);
+  ray.org_y = static_cast<float>(from[1]);
+  ray.org_z = static_cast<float>(from[2]);
+  ray.dir_x = static_cast<float>(d[0]);
+  ray.dir_y = static_cast<float>(d[1]);
+  ray.dir_z = static_cast<float>(d[2]);
+  ray.tnear = 0.0f;
+  ray.tfar = 1.0f;  // the direction spans the segment
+  ray.mask = 0xFFFFFFFFu;
+  ray.flags = 0;
+  return ray;
+}
+
+}  // namespace
+
+RayScene::RayScene(const std::vector<const TriMesh*>& surfaces) {
+  device_ = rtcNewDevice("threads=0");
+  if (!device_) throw std::runtime_error("cannot create an Embree device");
+  scene_ = rtcNewScene(device_);
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+
+  Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  double magnitude = 0.0;
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    const TriMesh& mesh = *surfaces[s];
+    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.n_vertices()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.n_faces()));
+    throw_on_error(device_, "allocating geometry");
+    for (const auto vh : mesh.vertices()) {
+      const Vec3& p = mesh.point(vh);
+      for (int k = 0; k < 3; ++k) {
+        vertices[3 * vh.idx() + k] = static_cast<float>(p[k]);
+        magnitude = std::max(magnitude, std::abs(p[k]));
+      }
+      lo.minimize(p);
+      hi.maximize(p);
+    }
+    for (const auto fh : mesh.faces()) {
+      int k = 0;
+      for (const auto vh : mesh.fv_range(fh)) indices[3 * fh.idx() + k++] = static_cast<unsigned>(vh.idx());
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(scene_, geometry, static_cast<unsigned>(s));
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(scene_);
+  throw_on_error(device_, "building the scene");
+  diagonal_ = surfaces.empty() ? 0.0 : (hi - lo).norm();
+  epsilon_ = kRelativeEpsilon * std::max({diagonal_, magnitude, 1e-30});
+}
+
+RayScene::~RayScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+bool RayScene::occluded(const Vec3& from, const Vec3& to) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = make_segment_ray(from, to);
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar < 0.0f;  // Embree marks a blocked ray with tfar = -inf
+}
+
+void RayScene::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) const {
+  if (blocked.size() < rays.size()) throw std::invalid_argument("RayScene::occluded: output too short");
+  constexpr std::size_t kChunk = 256;
+  RTCRay buffer[kChunk];
+  for (std::size_t first = 0; first < rays.size(); first += kChunk) {
+    const std::size_t count = std::min(kChunk, rays.size() - first);
+    for (std::size_t i = 0; i < count; ++i) buffer[i] = make_segment_ray(rays[first + i].from, rays[first + i].to);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    rtcOccluded1M(scene_, &context, buffer, static_cast<unsigned>(count), sizeof(RTCRay));
+    for (std::size_t i = 0; i < count; ++i) blocked[first + i] = buffer[i].tfar < 0.0f ? 1 : 0;
+  }
+}
+
+std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& direction) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayhit{};
+  rayhit.ray = make_segment_ray(origin, origin + direction);
+  rayhit.ray.tfar = std::numeric_limits<float>::infinity();
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rayhit);
+  if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  RayHit hit;
+  hit.surface = static_cast<int>(rayhit.hit.geomID);
+  hit.face = static_cast<int>(rayhit.hit.primID);
+  hit.distance = rayhit.ray.tfar * direction.norm();
+  hit.u = rayhit.hit.u;
+  hit.v = rayhit.hit.v;
+  return hit;
+}
+
+}  // namespace lhr

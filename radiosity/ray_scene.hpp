@@ -1,0 +1,63 @@
+#pragma once
+// All visibility goes through one Embree scene over every surface triangle
+// (DESIGN §2, radiosity/): shadow rays for transport coefficients and the
+// oracles, primary rays for images.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "mesh/types.hpp"
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace lhr {
+
+struct RayHit {
+  int surface = -1;  // index into the meshes the scene was built from
+  int face = -1;     // face index in that mesh
+  double distance = 0.0;
+  double u = 0.0, v = 0.0;  // barycentrics of corners 1 and 2 of the face
+};
+
+struct ShadowRay {
+  Vec3 from;
+  Vec3 to;
+};
+
+class RayScene {
+ public:
+  // One Embree geometry per surface mesh (geometry id = surface index).
+  // Built in robust mode: rays grazing shared edges must not leak.
+  explicit RayScene(const std::vector<const TriMesh*>& surfaces);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  // Offset that lifts ray end points off their surfaces: large enough for
+  // Embree's single-precision hits at the scene's coordinates, small against
+  // its features.
+  double epsilon() const { return epsilon_; }
+  double diagonal() const { return diagonal_; }
+
+  // Whether anything blocks the open segment (from, to). End points are used
+  // as given: lift them off their surfaces first (lift()).
+  bool occluded(const Vec3& from, const Vec3& to) const;
+  // Many segments at once (Embree stream queries); blocked[i] = 1 if occluded.
+  void occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) const;
+
+  // A point lifted off its surface along the unit normal n by epsilon().
+  Vec3 lift(const Vec3& p, const Vec3& n) const { return p + epsilon_ * n; }
+
+  std::optional<RayHit> intersect(const Vec3& origin, const Vec3& direction) const;
+
+ private:
+  RTCDeviceTy* device_ = nullptr;
+  RTCSceneTy* scene_ = nullptr;
+  double epsilon_ = 0.0;
+  double diagonal_ = 0.0;
+};
+
+}  // namespace lhr

@@ -1,0 +1,42 @@
+#include "radiosity/sampling.hpp"
+
+#include <cmath>
+
+namespace lhr {
+
+std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key) {
+  std::vector<TriangleSample> samples;
+  if (k <= 0) return samples;
+  samples.reserve(static_cast<std::size_t>(k) * k);
+  const double step = 1.0 / k;
+  int index = 0;
+  // In (s,t) coordinates (barycentric weights of corners 1 and 2) the
+  // triangle s,t ≥ 0, s+t ≤ 1 is tiled by k² half-cells: an upright one at
+  // (i,j) for i+j < k, and an inverted one for i+j < k−1.
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; i + j < k; ++j) {
+      for (int inverted = 0; inverted < 2; ++inverted) {
+        if (inverted && i + j >= k - 1) continue;
+        double a = unit_double(sample_key(key, index, 1));
+        double b = unit_double(sample_key(key, index, 2));
+        ++index;
+        if (a + b > 1.0) {  // fold the unit square onto the triangle: uniform by area
+          a = 1.0 - a;
+          b = 1.0 - b;
+        }
+        double s, t;
+        if (!inverted) {
+          s = (i + a) * step;
+          t = (j + b) * step;
+        } else {
+          s = (i + 1 - a) * step;
+          t = (j + 1 - b) * step;
+        }
+        samples.push_back({{1.0 - s - t, s, t}});
+      }
+    }
+  }
+  return samples;
+}
+
+}  // namespace lhr

@@ -1,0 +1,66 @@
+#pragma once
+// Tone mapping M: linear radiance -> display intensity in [0,1] (paper §4.1
+// "Map", ref. 18; DESIGN §4 "Tone map M"). Used by the receiver oracle, the
+// PNG images and the exported vertex colours alike.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "mesh/types.hpp"
+
+namespace lhr {
+
+// Rec. 709 luminance of linear RGB.
+inline double luminance(const Rgb& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+class ToneMap {
+ public:
+  virtual ~ToneMap() = default;
+  // Display intensity of a world luminance (scene units), in [0,1], gamma applied.
+  virtual double display(double world_luminance) const = 0;
+  // Display colour: channels scaled by the luminance ratio, then gamma.
+  virtual Rgb display_rgb(const Rgb& radiance) const = 0;
+  virtual std::string describe() const = 0;
+  std::array<std::uint8_t, 3> display_bytes(const Rgb& radiance) const;
+};
+
+struct TumblinRushmeierParams {
+  double world_adaptation = 1.0;  // L_wa in scene units (default: log-average the camera sees)
+  double units_to_cd_m2 = 1.0;    // scene radiance unit -> cd/m²
+  double display_max_cd_m2 = 100.0;  // L_dmax
+  double max_contrast = 100.0;       // C_max
+  double gamma = 2.2;
+};
+
+// Tumblin–Rushmeier 1993 (paper ref. 18), with the constants of DESIGN §4.
+class TumblinRushmeierToneMap final : public ToneMap {
+ public:
+  explicit TumblinRushmeierToneMap(const TumblinRushmeierParams& p);
+  double display(double world_luminance) const override;
+  Rgb display_rgb(const Rgb& radiance) const override;
+  std::string describe() const override;
+  // Display luminance in cd/m² before normalisation (exposed for tests).
+  double display_luminance_cd_m2(double world_luminance) const;
+
+ private:
+  TumblinRushmeierParams p_;
+  double exponent_ = 1.0;       // α(L_wa)/α(L_da)
+  double log_multiplier_ = 0.0;  // (β(L_wa) − β(L_da))/α(L_da)
+};
+
+// Maps `white` to 1, linearly, then gamma.
+class LinearToneMap final : public ToneMap {
+ public:
+  LinearToneMap(double white, double gamma = 2.2);
+  double display(double world_luminance) const override;
+  Rgb display_rgb(const Rgb& radiance) const override;
+  std::string describe() const override;
+
+ private:
+  double white_;
+  double gamma_;
+};
+
+}  // namespace lhr

@@ -1,7 +1,359 @@
+// OpenMesh's colour property value-initialises VectorT<uchar,3>, whose
+// default constructor leaves it unset on purpose; GCC flags the copy once
+// request_vertex_colors() is instantiated here. Every colour is set below.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
 #include "io/mesh_io.hpp"
+
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/Mesh/ArrayKernel.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <limits>
 #include <stdexcept>
+#include <string>
+#include <system_error>
+
+#include "io/atomic_file.hpp"
+#include "io/input_error.hpp"
+
 namespace lhr {
-void append_to_export(ExportMesh&, const TriMesh&, const std::vector<Rgb>&) { throw std::logic_error("not implemented"); }
-void write_mesh(const std::filesystem::path&, const ExportMesh&) { throw std::logic_error("not implemented"); }
-RawMesh read_raw_mesh(const std::filesystem::path&) { throw std::logic_error("not implemented"); }
+
+namespace {
+
+// DESIGN §3: the PLY carries linear radiance beside the display colour under
+// these names, so other tools show the colour and lhr can read values back.
+constexpr const char* kRadianceNames[3] = {"radiance_r", "radiance_g", "radiance_b"};
+
+// Points are stored as float in PLY (OpenMesh writes float x y z); OFF is
+// text, and 9 significant digits reproduce a float exactly.
+constexpr std::streamsize kTextPrecision = std::numeric_limits<float>::max_digits10;
+
+constexpr std::uint8_t kGrey = 128;
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// OpenMesh reports through its own global streams; lhr reports through
+// exceptions, so the library's chatter is muted while it works for us.
+class QuietOpenMesh {
+ public:
+  QuietOpenMesh() : err_(::omerr().is_enabled()), log_(::omlog().is_enabled()),
+                    out_(::omout().is_enabled()) {
+    ::omerr().disable();
+    ::omlog().disable();
+    ::omout().disable();
+  }
+  ~QuietOpenMesh() {
+    if (err_) ::omerr().enable();
+    if (log_) ::omlog().enable();
+    if (out_) ::omout().enable();
+  }
+  QuietOpenMesh(const QuietOpenMesh&) = delete;
+  QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
+
+ private:
+  bool err_, log_, out_;
+};
+
+// Thrown from inside OpenMesh's reader to stop it early on a hopeless header.
+struct AbortRead {
+  std::string problem;
+};
+
+// Records what OpenMesh's PLY/OFF readers parse, exactly as stored: unlike
+// OpenMesh's own importer it adds no half-edge structure, so no face is
+// dropped or altered and the checks see the file as it is.
+class RawImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  explicit RawImporter(std::uintmax_t file_size) : file_size_(file_size) {}
+
+  RawMesh& mesh() { return mesh_; }
+  const OpenMesh::ArrayKernel& properties() const { return properties_; }
+  std::size_t declared_vertices() const { return declared_vertices_; }
+  std::size_t declared_faces() const { return declared_faces_; }
+  std::size_t empty_faces() const { return empty_faces_; }
+
+  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override { return add_vertex(OpenMesh::Vec3d(p)); }
+  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d& p) override {
+    mesh_.points.push_back(p);
+    // Custom PLY properties (radiance) land in this kernel, indexed like ours.
+    return properties_.new_vertex();
+  }
+  OpenMesh::VertexHandle add_vertex() override { return add_vertex(OpenMesh::Vec3d(0.0)); }
+
+  OpenMesh::FaceHandle add_face(const VHandles& indices) override {
+    if (indices.empty()) ++empty_faces_;
+    std::vector<int>& face = mesh_.faces.emplace_back();
+    face.reserve(indices.size());
+    for (const auto& vh : indices) face.push_back(vh.idx());
+    return properties_.new_face();
+  }
+
+  void set_point(OpenMesh::VertexHandle vh, const OpenMesh::Vec3f& p) override {
+    mesh_.points.at(static_cast<std::size_t>(vh.idx())) = OpenMesh::Vec3d(p);
+  }
+
+  void reserve(unsigned int n_vertices, unsigned int /*n_edges*/, unsigned int n_faces) override {
+    declared_vertices_ = n_vertices;
+    declared_faces_ = n_faces;
+    // Every element takes at least one byte of the file: larger counts are a
+    // corrupt header, and reading on would loop over billions of empty records.
+    if (std::uintmax_t{n_vertices} + n_faces > file_size_) {
+      throw AbortRead{"header declares " + std::to_string(n_vertices) + " vertices and " + std::to_string(n_faces) +
+                      " faces, more than a file of " + std::to_string(file_size_) + " bytes can hold"};
+    }
+    mesh_.points.reserve(n_vertices);
+    mesh_.faces.reserve(n_faces);
+  }
+
+  std::size_t n_vertices() const override { return mesh_.points.size(); }
+  std::size_t n_faces() const override { return mesh_.faces.size(); }
+  std::size_t n_edges() const override { return 0; }
+  OpenMesh::BaseKernel* kernel() override { return &properties_; }
+
+  // Everything else a reader may hand over is not part of a RawMesh.
+  OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override { return OpenMesh::HalfedgeHandle(); }
+  OpenMesh::FaceHandle add_face(OpenMesh::HalfedgeHandle) override { return OpenMesh::FaceHandle(); }
+  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle, const std::vector<OpenMesh::Vec2f>&) override {}
+  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle, const std::vector<OpenMesh::Vec3f>&) override {}
+  void set_face_texindex(OpenMesh::FaceHandle, int) override {}
+  void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
+  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override {}
+  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3uc&) override {}
+  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4uc&) override {}
+  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4f&) override {}
+  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec2f&) override {}
+  void set_status(OpenMesh::VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
+  void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
+  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
+  void set_status(OpenMesh::HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
+  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4uc&) override {}
+  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3f&) override {}
+  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4f&) override {}
+  void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
+  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3d&) override {}
+  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3uc&) override {}
+  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4uc&) override {}
+  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
+  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4f&) override {}
+  void set_status(OpenMesh::FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+
+ private:
+  std::uintmax_t file_size_;
+  RawMesh mesh_;
+  OpenMesh::ArrayKernel properties_;
+  std::size_t declared_vertices_ = 0;
+  std::size_t declared_faces_ = 0;
+  std::size_t empty_faces_ = 0;
+};
+
+// One radiance channel as the PLY stores it (float as lhr writes, double
+// accepted from other tools); false when absent.
+bool read_channel(const OpenMesh::ArrayKernel& kernel, const char* name, std::vector<Rgb>& out, int channel) {
+  OpenMesh::VPropHandleT<float> as_float;
+  OpenMesh::VPropHandleT<double> as_double;
+  if (kernel.get_property_handle(as_float, name)) {
+    for (std::size_t v = 0; v < out.size(); ++v) {
+      out[v][channel] = kernel.property(as_float, OpenMesh::VertexHandle(static_cast<int>(v)));
+    }
+    return true;
+  }
+  if (kernel.get_property_handle(as_double, name)) {
+    for (std::size_t v = 0; v < out.size(); ++v) {
+      out[v][channel] = kernel.property(as_double, OpenMesh::VertexHandle(static_cast<int>(v)));
+    }
+    return true;
+  }
+  return false;
+}
+
+void check_export(const std::filesystem::path& path, const ExportMesh& mesh) {
+  const std::size_t n = mesh.points.size();
+  if (!mesh.colours.empty() && mesh.colours.size() != n) {
+    throw std::runtime_error(path.string() + ": " + std::to_string(mesh.colours.size()) + " colours for " +
+                             std::to_string(n) + " vertices");
+  }
+  if (!mesh.radiance.empty() && mesh.radiance.size() != n) {
+    throw std::runtime_error(path.string() + ": " + std::to_string(mesh.radiance.size()) +
+                             " radiance values for " + std::to_string(n) + " vertices");
+  }
+  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw std::runtime_error(path.string() + ": too many vertices for PLY/OFF indices");
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int v : mesh.triangles[t]) {
+      if (v < 0 || static_cast<std::size_t>(v) >= n) {
+        throw std::runtime_error(path.string() + ": triangle " + std::to_string(t) + " has vertex index " +
+                                 std::to_string(v) + ", not in [0, " + std::to_string(n) + ")");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rgb>& radiance) {
+  if (!radiance.empty() && radiance.size() != mesh.n_vertices()) {
+    throw std::invalid_argument("append_to_export: " + std::to_string(radiance.size()) + " radiance values for a mesh of " +
+                                std::to_string(mesh.n_vertices()) + " vertices");
+  }
+  const std::size_t offset = out.points.size();
+  // Keep per-vertex arrays aligned with points even if earlier surfaces had
+  // no colours: missing colours are grey, missing radiance is zero.
+  out.radiance.resize(offset, Rgb(0.0));
+  const bool colours = mesh.has_vertex_colors() || !out.colours.empty();
+  if (colours) out.colours.resize(offset, {kGrey, kGrey, kGrey});
+
+  std::vector<int> index(mesh.n_vertices(), -1);
+  for (const auto vh : mesh.vertices()) {  // skips deleted vertices
+    index[vh.idx()] = static_cast<int>(out.points.size());
+    out.points.push_back(mesh.point(vh));
+    out.radiance.push_back(radiance.empty() ? Rgb(0.0) : radiance[vh.idx()]);
+    if (colours) {
+      if (mesh.has_vertex_colors()) {
+        const auto c = mesh.color(vh);
+        out.colours.push_back({c[0], c[1], c[2]});
+      } else {
+        out.colours.push_back({kGrey, kGrey, kGrey});
+      }
+    }
+  }
+  for (const auto fh : mesh.faces()) {
+    std::array<int, 3> tri{};
+    int k = 0;
+    for (const auto vh : mesh.fv_range(fh)) {
+      if (k < 3) tri[k] = index[vh.idx()];
+      ++k;
+    }
+    if (k != 3) throw std::invalid_argument("append_to_export: face " + std::to_string(fh.idx()) + " is not a triangle");
+    out.triangles.push_back(tri);
+  }
+}
+
+void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
+  const std::string ext = lower_extension(path);
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
+  if (ext == ".ply") {
+    options += OpenMesh::IO::Options::Binary;
+    options += OpenMesh::IO::Options::Custom;
+  } else if (ext != ".off") {
+    throw std::runtime_error(path.string() + ": unknown mesh format '" + path.extension().string() +
+                             "' (write .ply or .off)");
+  }
+  check_export(path, mesh);
+
+  // Built completely before the target is touched, so a mesh OpenMesh cannot
+  // take fails without side effects.
+  TriMesh om;
+  om.request_vertex_colors();
+  OpenMesh::VPropHandleT<float> channel[3];
+  for (int c = 0; c < 3; ++c) {
+    om.add_property(channel[c], kRadianceNames[c]);
+    om.property(channel[c]).set_persistent(true);
+  }
+  om.reserve(mesh.points.size(), 3 * mesh.triangles.size(), mesh.triangles.size());
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    const auto vh = om.add_vertex(mesh.points[v]);
+    const auto c = mesh.colours.empty() ? std::array<std::uint8_t, 3>{kGrey, kGrey, kGrey} : mesh.colours[v];
+    om.set_color(vh, TriMesh::Color(c[0], c[1], c[2]));
+    const Rgb r = mesh.radiance.empty() ? Rgb(0.0) : mesh.radiance[v];
+    for (int ch = 0; ch < 3; ++ch) om.property(channel[ch], vh) = static_cast<float>(r[ch]);
+  }
+  {
+    const QuietOpenMesh quiet;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      const auto fh = om.add_face(OpenMesh::VertexHandle(tri[0]), OpenMesh::VertexHandle(tri[1]),
+                                  OpenMesh::VertexHandle(tri[2]));
+      if (!fh.is_valid()) {
+        throw std::runtime_error(path.string() + ": triangle " + std::to_string(t) + " (" + std::to_string(tri[0]) +
+                                 "," + std::to_string(tri[1]) + "," + std::to_string(tri[2]) +
+                                 ") is not manifold with the triangles before it, or repeats a vertex; "
+                                 "each surface must be a manifold with its own vertices");
+      }
+    }
+  }
+  if (om.n_faces() != mesh.triangles.size()) {
+    throw std::runtime_error(path.string() + ": only " + std::to_string(om.n_faces()) + " of " +
+                             std::to_string(mesh.triangles.size()) + " triangles could be stored");
+  }
+
+  write_atomically(path, [&](const std::filesystem::path& temp) {
+    const QuietOpenMesh quiet;
+    if (!OpenMesh::IO::write_mesh(om, temp.string(), options, kTextPrecision)) {
+      throw std::runtime_error(path.string() + ": cannot write mesh file");
+    }
+  });
+}
+
+RawMesh read_raw_mesh(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path, "file not found");
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a directory, not a mesh file");
+  const std::string ext = lower_extension(path);
+  if (ext != ".ply" && ext != ".off") {
+    throw InputError(path, "unknown mesh format '" + path.extension().string() + "' (expected .ply or .off)");
+  }
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path, "cannot read: " + ec.message());
+  if (size == 0) throw InputError(path, "file is empty");
+  if (!std::ifstream(path, std::ios::binary)) throw InputError(path, "cannot open for reading");
+
+  RawImporter importer(size);
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::Custom;
+  bool ok = false;
+  {
+    const QuietOpenMesh quiet;
+    try {
+      ok = OpenMesh::IO::IOManager().read(path.string(), importer, options);
+    } catch (const AbortRead& abort) {
+      throw InputError(path, abort.problem);
+    }
+  }
+  const std::string format = ext == ".ply" ? "PLY" : "OFF";
+  if (!ok) throw InputError(path, "not a valid " + format + " file (bad header or truncated data)");
+
+  RawMesh& mesh = importer.mesh();
+  if (mesh.points.size() != importer.declared_vertices()) {
+    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_vertices()) +
+                               " vertices, file holds " + std::to_string(mesh.points.size()));
+  }
+  if (mesh.faces.size() != importer.declared_faces()) {
+    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_faces()) +
+                               " faces, file holds " + std::to_string(mesh.faces.size()));
+  }
+  // A failed text parse yields faces without indices (the readers then read
+  // zeros to the end), so an empty face means a malformed or truncated file.
+  if (importer.empty_faces() > 0) {
+    throw InputError(path, std::to_string(importer.empty_faces()) +
+                               " face(s) without vertex indices (malformed or truncated face list)");
+  }
+  if (mesh.faces.empty()) throw InputError(path, "contains no faces");
+
+  std::vector<Rgb> radiance(mesh.points.size(), Rgb(0.0));
+  bool all = true;
+  for (int c = 0; c < 3; ++c) all = read_channel(importer.properties(), kRadianceNames[c], radiance, c) && all;
+  if (all) mesh.radiance = std::move(radiance);
+  return std::move(mesh);
+}
+
 }  // namespace lhr

@@ -1,6 +1,694 @@
 #include "mesh/initial_mesh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/boost/graph/graph_traits_TriMesh_ArrayKernelT.h>
+#include <CGAL/boost/graph/properties_TriMesh_ArrayKernelT.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+
 namespace lhr {
-double default_max_edge(const Scene&) { throw std::logic_error("not implemented"); }
-TriMesh mesh_surface(const Surface&, const MeshingOptions&) { throw std::logic_error("not implemented"); }
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point2 = Kernel::Point_2;
+
+// Input point a triangulation vertex was created from; -1 for Steiner points.
+struct InputVertex {
+  int index = -1;
+};
+
+using VertexBase =
+    CGAL::Triangulation_vertex_base_with_info_2<InputVertex, Kernel, CGAL::Triangulation_vertex_base_2<Kernel>>;
+using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+// Crossing constraints mean crossing polygon edges, i.e. broken input: let
+// CGAL throw instead of constructing intersection points.
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds,
+                                                       CGAL::No_constraint_intersection_requiring_constructions_tag>;
+using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+
+constexpr double kPi = 3.14159265358979323846;
+// Largest smallest-angle bound for which Delaunay refinement provably
+// terminates: shape bound B = sin^2(angle) = 0.125 (CGAL Delaunay_mesh_criteria_2).
+const double kMaxMinAngleRad = std::asin(std::sqrt(0.125));
+// Adjacent input triangles whose normals differ by more than this are kept
+// apart by a constraint so the output follows the input's piecewise-linear
+// shape; below it the bend changes areas by ~angle^2, far under rounding.
+constexpr double kCreaseAngleRad = 1e-9;
+// Input triangles thinner than this (smallest angle in radians, about) are
+// taken as degenerate.
+constexpr double kDegenerateSine = 1e-10;
+// Guard against runaway refinement (and memory) on one surface.
+constexpr std::size_t kMaxVerticesPerSurface = std::size_t{1} << 24;
+// Curved surfaces: CGAL splits edges longer than 4/3 of the target length,
+// so a target of 3/4 h keeps remeshed edges at h (Botsch & Kobbelt 2004).
+constexpr double kCurvedTargetFraction = 0.75;
+constexpr double kSharpEdgeAngleDeg = 60.0;
+constexpr unsigned kRemeshIterations = 3;
+
+double orient2(const Point2& a, const Point2& b, const Point2& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+std::uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+void check_options(const MeshingOptions& options) {
+  if (!(options.max_edge > 0.0) || !std::isfinite(options.max_edge)) {
+    throw std::invalid_argument("meshing: max edge length must be a positive finite number, got " +
+                                std::to_string(options.max_edge));
+  }
+  if (!(options.min_angle_deg > 0.0) || !(options.min_angle_deg < 60.0)) {
+    throw std::invalid_argument("meshing: minimum angle must be in (0, 60) degrees, got " +
+                                std::to_string(options.min_angle_deg));
+  }
+}
+
+void check_polygons(const Surface& surface) {
+  if (surface.polygons.empty()) throw std::runtime_error("has no polygons");
+  const int n = static_cast<int>(surface.points.size());
+  for (std::size_t p = 0; p < surface.polygons.size(); ++p) {
+    const auto& poly = surface.polygons[p];
+    if (poly.size() < 3) {
+      throw std::runtime_error("polygon " + std::to_string(p) + " has fewer than 3 vertices");
+    }
+    for (int i : poly) {
+      if (i < 0 || i >= n) {
+        throw std::runtime_error("polygon " + std::to_string(p) + " refers to point " + std::to_string(i) +
+                                 " of " + std::to_string(n));
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(surface.points[i][k])) {
+          throw std::runtime_error("point " + std::to_string(i) + " is not finite");
+        }
+      }
+    }
+  }
+}
+
+// Area-weighted normal (Newell), used when the surface carries none.
+Vec3 newell_vector_area(const Surface& surface) {
+  Vec3 sum(0, 0, 0);
+  for (const auto& poly : surface.polygons) {
+    const Vec3& o = surface.points[poly[0]];
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+      sum += 0.5 * OpenMesh::cross(surface.points[poly[i]] - o, surface.points[poly[i + 1]] - o);
+    }
+  }
+  return sum;
+}
+
+// ---------------------------------------------------------------------------
+// Planar surfaces.
+
+// The input polygons split into triangles: the piecewise-linear shape that
+// Steiner points are placed on, and the region the mesh must cover.
+class InputTriangles {
+ public:
+  InputTriangles(std::vector<Point2> points2, std::vector<std::array<int, 3>> triangles)
+      : points2_(std::move(points2)), triangles_(std::move(triangles)) {
+    build_grid();
+  }
+
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
+
+  struct Location {
+    int triangle = -1;
+    std::array<double, 3> barycentric{0, 0, 0};
+    double min_barycentric = -std::numeric_limits<double>::infinity();
+  };
+
+  // The input triangle that contains p best (largest smallest barycentric
+  // coordinate); min_barycentric < 0 means p lies outside all of them.
+  Location locate(const Point2& p) const {
+    Location best;
+    const auto& cell = cells_[cell_of(p)];
+    for (int t : cell) {
+      const auto& tri = triangles_[t];
+      const Point2& a = points2_[tri[0]];
+      const Point2& b = points2_[tri[1]];
+      const Point2& c = points2_[tri[2]];
+      const double area = orient2(a, b, c);
+      const std::array<double, 3> w{orient2(p, b, c) / area, orient2(a, p, c) / area, orient2(a, b, p) / area};
+      const double m = std::min({w[0], w[1], w[2]});
+      if (m > best.min_barycentric) best = Location{t, w, m};
+    }
+    return best;
+  }
+
+ private:
+  void build_grid() {
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
+    double x1 = -x0, y1 = -x0;
+    for (const auto& tri : triangles_) {
+      for (int i : tri) {
+        x0 = std::min(x0, points2_[i].x());
+        y0 = std::min(y0, points2_[i].y());
+        x1 = std::max(x1, points2_[i].x());
+        y1 = std::max(y1, points2_[i].y());
+      }
+    }
+    const double w = std::max(x1 - x0, 1e-300);
+    const double h = std::max(y1 - y0, 1e-300);
+    const double n = static_cast<double>(triangles_.size());
+    nx_ = static_cast<int>(std::clamp(std::ceil(std::sqrt(n * w / h)), 1.0, 512.0));
+    ny_ = static_cast<int>(std::clamp(std::ceil(std::sqrt(n * h / w)), 1.0, 512.0));
+    x0_ = x0;
+    y0_ = y0;
+    sx_ = nx_ / w;
+    sy_ = ny_ / h;
+    cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
+    // Slack so points rounded onto a triangle's edge still find it.
+    const double pad = 1e-9 * std::hypot(w, h);
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+      double tx0 = std::numeric_limits<double>::infinity(), ty0 = tx0, tx1 = -tx0, ty1 = -tx0;
+      for (int i : triangles_[t]) {
+        tx0 = std::min(tx0, points2_[i].x());
+        ty0 = std::min(ty0, points2_[i].y());
+        tx1 = std::max(tx1, points2_[i].x());
+        ty1 = std::max(ty1, points2_[i].y());
+      }
+      const int i0 = clamp_x(tx0 - pad), i1 = clamp_x(tx1 + pad);
+      const int j0 = clamp_y(ty0 - pad), j1 = clamp_y(ty1 + pad);
+      for (int j = j0; j <= j1; ++j) {
+        for (int i = i0; i <= i1; ++i) cells_[static_cast<std::size_t>(j) * nx_ + i].push_back(static_cast<int>(t));
+      }
+    }
+  }
+  int clamp_x(double x) const { return std::clamp(static_cast<int>(std::floor((x - x0_) * sx_)), 0, nx_ - 1); }
+  int clamp_y(double y) const { return std::clamp(static_cast<int>(std::floor((y - y0_) * sy_)), 0, ny_ - 1); }
+  std::size_t cell_of(const Point2& p) const {
+    return static_cast<std::size_t>(clamp_y(p.y())) * nx_ + clamp_x(p.x());
+  }
+
+  std::vector<Point2> points2_;
+  std::vector<std::array<int, 3>> triangles_;
+  int nx_ = 1, ny_ = 1;
+  double x0_ = 0, y0_ = 0, sx_ = 1, sy_ = 1;
+  std::vector<std::vector<int>> cells_;
+};
+
+// Splits one polygon (counter-clockwise in the plane) into triangles: a fan
+// when every fan triangle is counter-clockwise (then the fan tiles the
+// polygon: its wedges around vertex 0 are disjoint), else ear clipping.
+// Degenerate (collinear) pieces are dropped.
+void triangulate_polygon(const std::vector<int>& poly, const std::vector<Point2>& q, std::size_t polygon_index,
+                         std::vector<std::array<int, 3>>& out) {
+  bool fan_ok = true;
+  for (std::size_t i = 1; i + 1 < poly.size() && fan_ok; ++i) {
+    fan_ok = CGAL::orientation(q[poly[0]], q[poly[i]], q[poly[i + 1]]) != CGAL::RIGHT_TURN;
+  }
+  if (fan_ok) {
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+      if (CGAL::orientation(q[poly[0]], q[poly[i]], q[poly[i + 1]]) == CGAL::LEFT_TURN) {
+        out.push_back({poly[0], poly[i], poly[i + 1]});
+      }
+    }
+    return;
+  }
+  std::vector<int> ring = poly;
+  while (ring.size() >= 3) {
+    const std::size_t n = ring.size();
+    bool clipped = false;
+    for (std::size_t i = 0; i < n && !clipped; ++i) {
+      const int a = ring[(i + n - 1) % n], b = ring[i], c = ring[(i + 1) % n];
+      if (CGAL::orientation(q[a], q[b], q[c]) != CGAL::LEFT_TURN) continue;
+      bool empty = true;
+      for (std::size_t j = 0; j < n && empty; ++j) {
+        const int r = ring[j];
+        if (r == a || r == b || r == c || q[r] == q[a] || q[r] == q[b] || q[r] == q[c]) continue;
+        empty = !(CGAL::orientation(q[a], q[b], q[r]) != CGAL::RIGHT_TURN &&
+                  CGAL::orientation(q[b], q[c], q[r]) != CGAL::RIGHT_TURN &&
+                  CGAL::orientation(q[c], q[a], q[r]) != CGAL::RIGHT_TURN);
+      }
+      if (empty) {
+        out.push_back({a, b, c});
+        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+        clipped = true;
+      }
+    }
+    if (clipped) continue;
+    for (std::size_t i = 0; i < n && !clipped; ++i) {
+      const int a = ring[(i + n - 1) % n], b = ring[i], c = ring[(i + 1) % n];
+      if (CGAL::orientation(q[a], q[b], q[c]) == CGAL::COLLINEAR) {
+        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+        clipped = true;
+      }
+    }
+    if (!clipped) {
+      throw std::runtime_error("polygon " + std::to_string(polygon_index) +
+                               " is self-intersecting or not counter-clockwise seen from the surface front");
+    }
+  }
+}
+
+// Faces connected without crossing a constraint are all inside the region
+// or all outside it, so each such component is decided as a whole: outside
+// if it reaches the unbounded face, else by the area of its faces whose
+// centroids fall inside an input triangle. A per-face test would misjudge the
+// slivers that rounding leaves along nearly collinear boundary vertices, and
+// the mesher, trusting the marks, would then insert circumcentres of such an
+// outside sliver ever farther away without end.
+void mark_domain(Cdt& cdt, const InputTriangles& input) {
+  std::map<Cdt::Face_handle, int> component;
+  std::vector<double> inside_area, outside_area;
+  std::vector<bool> unbounded;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (component.count(f)) continue;
+    const int id = static_cast<int>(inside_area.size());
+    inside_area.push_back(0.0);
+    outside_area.push_back(0.0);
+    unbounded.push_back(false);
+    std::vector<Cdt::Face_handle> stack{f};
+    component[f] = id;
+    while (!stack.empty()) {
+      const Cdt::Face_handle g = stack.back();
+      stack.pop_back();
+      const Point2& a = g->vertex(0)->point();
+      const Point2& b = g->vertex(1)->point();
+      const Point2& c = g->vertex(2)->point();
+      const double area = 0.5 * orient2(a, b, c);
+      (input.locate(CGAL::centroid(a, b, c)).min_barycentric >= 0.0 ? inside_area : outside_area)[id] += area;
+      for (int k = 0; k < 3; ++k) {
+        const Cdt::Face_handle n = g->neighbor(k);
+        if (cdt.is_constrained(Cdt::Edge(g, k))) continue;
+        if (cdt.is_infinite(n)) {
+          unbounded[id] = true;
+          continue;
+        }
+        if (component.count(n)) continue;
+        component[n] = id;
+        stack.push_back(n);
+      }
+    }
+  }
+  for (auto& [f, id] : component) f->set_in_domain(!unbounded[id] && inside_area[id] > outside_area[id]);
+}
+
+// CGAL's refine_Delaunay_mesh_2, one point at a time, so that a run that
+// leaves the region (which Delaunay refinement never does in exact
+// arithmetic, but rounding on degenerate input might) ends with an error
+// instead of running forever.
+void refine(Cdt& cdt, const Criteria& criteria) {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    x0 = std::min(x0, v->point().x());
+    y0 = std::min(y0, v->point().y());
+    x1 = std::max(x1, v->point().x());
+    y1 = std::max(y1, v->point().y());
+  }
+  const double pad = 1e-6 * std::hypot(x1 - x0, y1 - y0);
+  CGAL::Delaunay_mesher_2<Cdt, Criteria> mesher(cdt, criteria);
+  mesher.init(true);
+  std::size_t checked = cdt.number_of_vertices();
+  while (!mesher.is_refinement_done()) {
+    mesher.step_by_step_refine_mesh();
+    if (cdt.number_of_vertices() < 2 * checked) continue;
+    checked = cdt.number_of_vertices();
+    if (checked > kMaxVerticesPerSurface) {
+      throw std::runtime_error("needs more than " + std::to_string(kMaxVerticesPerSurface) +
+                               " vertices; use a larger --max-edge");
+    }
+    for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+      const Point2& p = v->point();
+      if (!(p.x() >= x0 - pad && p.x() <= x1 + pad && p.y() >= y0 - pad && p.y() <= y1 + pad)) {
+        throw std::runtime_error("Delaunay refinement left the surface (degenerate or overlapping polygons?)");
+      }
+    }
+  }
+}
+
+TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options) {
+  // Frame (u, v, n), right-handed, so counter-clockwise in (u, v) is
+  // counter-clockwise seen from the front.
+  const Vec3 vector_area = newell_vector_area(surface);
+  Vec3 n = surface.normal;
+  if (!(n.norm() > 0.5 && n.norm() < 1.5)) n = vector_area;
+  if (!(n.norm() > 0.0)) throw std::runtime_error("polygons have zero area");
+  n.normalize();
+  if (OpenMesh::dot(vector_area, n) <= 0.0) {
+    throw std::runtime_error("polygons face away from the surface normal");
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(n[k]) < std::abs(n[axis])) axis = k;
+  }
+  Vec3 e(0, 0, 0);
+  e[axis] = 1.0;
+  const Vec3 u = OpenMesh::cross(n, e).normalized();
+  const Vec3 v = OpenMesh::cross(n, u);
+  const Vec3 origin = surface.points[surface.polygons[0][0]];
+
+  std::vector<Point2> q(surface.points.size());
+  for (std::size_t i = 0; i < surface.points.size(); ++i) {
+    const Vec3 d = surface.points[i] - origin;
+    q[i] = Point2(OpenMesh::dot(d, u), OpenMesh::dot(d, v));
+  }
+
+  // Input triangles, in polygon order.
+  std::vector<std::array<int, 3>> triangles;
+  double input_area2 = 0.0;
+  for (std::size_t p = 0; p < surface.polygons.size(); ++p) {
+    const auto& poly = surface.polygons[p];
+    double signed_area = 0.0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Point2& a = q[poly[i]];
+      const Point2& b = q[poly[(i + 1) % poly.size()]];
+      signed_area += a.x() * b.y() - a.y() * b.x();
+    }
+    if (!(signed_area > 0.0)) {
+      throw std::runtime_error("polygon " + std::to_string(p) +
+                               " is degenerate or not counter-clockwise seen from the surface front");
+    }
+    const std::size_t first = triangles.size();
+    triangulate_polygon(poly, q, p, triangles);
+    for (std::size_t t = first; t < triangles.size(); ++t) {
+      input_area2 += 0.5 * orient2(q[triangles[t][0]], q[triangles[t][1]], q[triangles[t][2]]);
+    }
+  }
+  // Pieces cut off between collinear polygon vertices are slivers whose
+  // normals are rounding noise; they carry no area or shape, so neither the
+  // tilt, the crease test nor the point lookup may use them.
+  std::erase_if(triangles, [&](const std::array<int, 3>& t) {
+    const Point2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
+    const double longest =
+        std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)});
+    return !(orient2(a, b, c) > kDegenerateSine * longest);
+  });
+  if (triangles.empty()) throw std::runtime_error("polygons have zero area");
+
+  // Tilt of each input triangle against the frame: a 2D length l is at most
+  // l / cos(tilt) in 3D, and angles change by at most 1/cos(tilt) - 1 radians
+  // (the 3D triangle projects onto the 2D one).
+  std::vector<Vec3> tri_normal(triangles.size());
+  double min_cos = 1.0;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& tri = triangles[t];
+    const Vec3& a = surface.points[tri[0]];
+    const Vec3 c = OpenMesh::cross(surface.points[tri[1]] - a, surface.points[tri[2]] - a);
+    tri_normal[t] = c.normalized();
+    const double cos_tilt = OpenMesh::dot(tri_normal[t], n);
+    if (!(cos_tilt > 0.5)) {
+      throw std::runtime_error("is marked planar but bends by more than 60 degrees; mesh it as a curved surface");
+    }
+    min_cos = std::min(min_cos, cos_tilt);
+  }
+
+  // Constraints: boundary edges (used by exactly one polygon) and creases of
+  // the piecewise-linear input inside the region.
+  std::map<std::uint64_t, int> polygon_edge_uses;
+  for (const auto& poly : surface.polygons) {
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      if (poly[i] != poly[(i + 1) % poly.size()]) ++polygon_edge_uses[edge_key(poly[i], poly[(i + 1) % poly.size()])];
+    }
+  }
+  std::vector<std::pair<int, int>> constraints;
+  for (const auto& [key, uses] : polygon_edge_uses) {
+    if (uses > 2) {
+      throw std::runtime_error("edge (" + std::to_string(key >> 32) + "," + std::to_string(key & 0xffffffffu) +
+                               ") is shared by " + std::to_string(uses) + " polygons");
+    }
+    if (uses == 1) constraints.emplace_back(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu));
+  }
+  std::map<std::uint64_t, std::vector<int>> triangle_edges;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      triangle_edges[edge_key(triangles[t][k], triangles[t][(k + 1) % 3])].push_back(static_cast<int>(t));
+    }
+  }
+  for (const auto& [key, tris] : triangle_edges) {
+    if (tris.size() != 2 || (polygon_edge_uses.count(key) && polygon_edge_uses.at(key) == 1)) continue;
+    const double c = std::clamp(OpenMesh::dot(tri_normal[tris[0]], tri_normal[tris[1]]), -1.0, 1.0);
+    const double s = OpenMesh::cross(tri_normal[tris[0]], tri_normal[tris[1]]).norm();
+    if (std::atan2(s, c) > kCreaseAngleRad) {
+      constraints.emplace_back(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu));
+    }
+  }
+
+  Cdt cdt;
+  std::vector<Cdt::Vertex_handle> handles(surface.points.size());
+  // Only constraint ends are inserted: an input vertex inside a flat part
+  // carries no shape, and keeping it would force the mesh finer than h
+  // (DESIGN §4: minimum density).
+  std::vector<bool> used(surface.points.size(), false);
+  for (const auto& [a, b] : constraints) used[a] = used[b] = true;
+  for (std::size_t i = 0; i < surface.points.size(); ++i) {
+    if (!used[i]) continue;
+    handles[i] = cdt.insert(q[i]);
+    if (handles[i]->info().index < 0) handles[i]->info().index = static_cast<int>(i);
+  }
+  try {
+    for (const auto& [a, b] : constraints) {
+      if (handles[a] != handles[b]) cdt.insert_constraint(handles[a], handles[b]);
+    }
+  } catch (const Cdt::Intersection_of_constraints_exception&) {
+    throw std::runtime_error("polygon edges cross each other");
+  }
+
+  const InputTriangles input(q, triangles);
+  mark_domain(cdt, input);
+
+  // Leave room for the tilt: 2D bounds tight enough that the 3D mesh keeps
+  // edges <= h and angles >= the requested minimum.
+  const double tilt_angle_slack = 1.0 / min_cos - 1.0;
+  const double min_angle_2d =
+      std::min(options.min_angle_deg * kPi / 180.0 + tilt_angle_slack, kMaxMinAngleRad);
+  const double shape_bound = std::pow(std::sin(min_angle_2d), 2);
+  const double size_bound_2d = options.max_edge * min_cos * (1.0 - 1e-12);
+  refine(cdt, Criteria(shape_bound, size_bound_2d));
+
+  TriMesh mesh;
+  std::map<Cdt::Vertex_handle, TriMesh::VertexHandle> to_mesh;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!f->is_in_domain()) continue;
+    for (int k = 0; k < 3; ++k) to_mesh.emplace(f->vertex(k), TriMesh::VertexHandle());
+  }
+  // Vertices in triangulation order (deterministic), not in map order.
+  for (auto vit = cdt.finite_vertices_begin(); vit != cdt.finite_vertices_end(); ++vit) {
+    const auto it = to_mesh.find(vit);
+    if (it == to_mesh.end()) continue;
+    Vec3 p;
+    if (vit->info().index >= 0) {
+      p = surface.points[vit->info().index];
+    } else {
+      const InputTriangles::Location loc = input.locate(vit->point());
+      if (loc.triangle < 0 || loc.min_barycentric < -1e-6) {
+        throw std::runtime_error("mesher placed a point outside the surface (overlapping polygons?)");
+      }
+      std::array<double, 3> w = loc.barycentric;
+      double sum = 0.0;
+      for (double& x : w) sum += (x = std::max(x, 0.0));
+      const auto& tri = input.triangles()[loc.triangle];
+      p = (w[0] / sum) * surface.points[tri[0]] + (w[1] / sum) * surface.points[tri[1]] +
+          (w[2] / sum) * surface.points[tri[2]];
+    }
+    it->second = mesh.add_vertex(p);
+  }
+  double output_area2 = 0.0;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!f->is_in_domain()) continue;
+    output_area2 += 0.5 * orient2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+    const auto fh = mesh.add_face(to_mesh.at(f->vertex(0)), to_mesh.at(f->vertex(1)), to_mesh.at(f->vertex(2)));
+    if (!fh.is_valid()) {
+      throw std::runtime_error("the surface's region is not manifold (it touches itself at a vertex)");
+    }
+  }
+  if (mesh.n_faces() == 0) throw std::runtime_error("meshing produced no triangles");
+  if (std::abs(output_area2 - input_area2) > 1e-9 * input_area2) {
+    throw std::runtime_error("polygons overlap or leave gaps (meshed area " + std::to_string(output_area2) +
+                             " vs polygon area " + std::to_string(input_area2) + ")");
+  }
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------
+// Curved surfaces.
+
+// Reads and writes OpenMesh points as CGAL points in double precision; the
+// adapter's own map rounds written points to float.
+struct PointMap {
+  using key_type = boost::graph_traits<TriMesh>::vertex_descriptor;
+  using value_type = Kernel::Point_3;
+  using reference = Kernel::Point_3;
+  using category = boost::read_write_property_map_tag;
+  TriMesh* mesh = nullptr;
+
+  friend value_type get(const PointMap& m, key_type v) {
+    const Vec3& p = m.mesh->point(v);
+    return value_type(p[0], p[1], p[2]);
+  }
+  friend void put(const PointMap& m, key_type v, const value_type& p) {
+    m.mesh->set_point(v, Vec3(p.x(), p.y(), p.z()));
+  }
+};
+
+// Constrained-or-not flags on OpenMesh properties, so they follow the mesh
+// through splits; CGAL's dynamic bool maps do not compile against OpenMesh's
+// std::vector<bool> storage.
+struct EdgeFlagMap {
+  using key_type = boost::graph_traits<TriMesh>::edge_descriptor;
+  using value_type = bool;
+  using reference = bool;
+  using category = boost::read_write_property_map_tag;
+  TriMesh* mesh = nullptr;
+  OpenMesh::EPropHandleT<unsigned char> prop;
+
+  friend bool get(const EdgeFlagMap& m, key_type e) {
+    return m.mesh->property(m.prop, m.mesh->edge_handle(e.halfedge())) != 0;
+  }
+  friend void put(const EdgeFlagMap& m, key_type e, bool value) {
+    m.mesh->property(m.prop, m.mesh->edge_handle(e.halfedge())) = value ? 1 : 0;
+  }
+};
+
+struct VertexFlagMap {
+  using key_type = boost::graph_traits<TriMesh>::vertex_descriptor;
+  using value_type = bool;
+  using reference = bool;
+  using category = boost::read_write_property_map_tag;
+  TriMesh* mesh = nullptr;
+  OpenMesh::VPropHandleT<unsigned char> prop;
+
+  friend bool get(const VertexFlagMap& m, key_type v) { return m.mesh->property(m.prop, v) != 0; }
+  friend void put(const VertexFlagMap& m, key_type v, bool value) { m.mesh->property(m.prop, v) = value ? 1 : 0; }
+};
+
+double edge_length(const TriMesh& mesh, boost::graph_traits<TriMesh>::edge_descriptor e) {
+  return mesh.calc_edge_length(mesh.edge_handle(e.halfedge()));
+}
+
+void remesh(TriMesh& mesh, double h) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+
+  const PointMap points{&mesh};
+  EdgeFlagMap constrained_edge;
+  constrained_edge.mesh = &mesh;
+  VertexFlagMap constrained_vertex;
+  constrained_vertex.mesh = &mesh;
+  mesh.add_property(constrained_edge.prop);
+  mesh.add_property(constrained_vertex.prop);
+  for (const auto e : edges(mesh)) put(constrained_edge, e, CGAL::is_border(e, mesh));
+  PMP::detect_sharp_edges(mesh, kSharpEdgeAngleDeg, constrained_edge, CGAL::parameters::vertex_point_map(points));
+
+  // Protected constraints are never split by the remesher, so bring them to
+  // the remesher's own "long" threshold first (midpoint splits stay on the
+  // input edges).
+  const double target_length = kCurvedTargetFraction * h;
+  const double constraint_length = std::min(h, 4.0 / 3.0 * target_length) * (1.0 - 1e-12);
+  std::vector<boost::graph_traits<TriMesh>::edge_descriptor> to_split;
+  for (const auto e : edges(mesh)) {
+    if (get(constrained_edge, e)) to_split.push_back(e);
+  }
+  PMP::split_long_edges(to_split, constraint_length, mesh,
+                        CGAL::parameters::edge_is_constrained_map(constrained_edge).vertex_point_map(points));
+  for (const auto v : vertices(mesh)) put(constrained_vertex, v, false);
+  for (const auto e : edges(mesh)) {
+    if (!get(constrained_edge, e)) continue;
+    put(constrained_vertex, source(e, mesh), true);
+    put(constrained_vertex, target(e, mesh), true);
+  }
+
+  PMP::isotropic_remeshing(faces(mesh), target_length, mesh,
+                           CGAL::parameters::number_of_iterations(kRemeshIterations)
+                               .edge_is_constrained_map(constrained_edge)
+                               .vertex_is_constrained_map(constrained_vertex)
+                               .protect_constraints(true)
+                               .vertex_point_map(points));
+
+  // Smoothing can stretch an edge past h; split what remains.
+  for (int round = 0; round < 8; ++round) {
+    to_split.clear();
+    for (const auto e : edges(mesh)) {
+      if (edge_length(mesh, e) > h) to_split.push_back(e);
+    }
+    if (to_split.empty()) break;
+    PMP::split_long_edges(to_split, h * (1.0 - 1e-12), mesh,
+                          CGAL::parameters::edge_is_constrained_map(constrained_edge).vertex_point_map(points));
+  }
+  mesh.remove_property(constrained_edge.prop);
+  mesh.remove_property(constrained_vertex.prop);
+}
+
+TriMesh mesh_curved(const Surface& surface, const MeshingOptions& options) {
+  const double h = options.max_edge;
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> handle(surface.points.size());
+  for (std::size_t p = 0; p < surface.polygons.size(); ++p) {
+    const auto& poly = surface.polygons[p];
+    for (int i : poly) {
+      if (!handle[i].is_valid()) handle[i] = mesh.add_vertex(surface.points[i]);
+    }
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+      const auto fh = mesh.add_face(handle[poly[0]], handle[poly[i]], handle[poly[i + 1]]);
+      if (!fh.is_valid()) {
+        throw std::runtime_error("polygon " + std::to_string(p) +
+                                 " makes the surface non-manifold or flips its orientation");
+      }
+    }
+  }
+  for (const auto f : mesh.faces()) {
+    if (!(mesh.calc_face_normal(f).norm() > 0.0)) {
+      throw std::runtime_error("has a zero-area polygon; remove it or merge its vertices");
+    }
+  }
+  remesh(mesh, h);
+  mesh.garbage_collection();
+  // CGAL's Euler operations do not keep OpenMesh's invariant that a boundary
+  // vertex's outgoing halfedge is a boundary one; is_boundary(v) relies on it.
+  for (const auto v : mesh.vertices()) mesh.adjust_outgoing_halfedge(v);
+  for (const auto e : mesh.edges()) {
+    if (mesh.calc_edge_length(e) > h * (1.0 + 1e-9)) {
+      throw std::runtime_error("remeshing left an edge longer than the maximum edge length");
+    }
+  }
+  if (mesh.n_faces() == 0) throw std::runtime_error("remeshing produced no triangles");
+  return mesh;
+}
+
+}  // namespace
+
+double default_max_edge(const Scene& scene) {
+  const double diagonal = scene_bounds(scene).diagonal();
+  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) {
+    throw std::runtime_error("scene '" + scene.source +
+                             "' has no extent, so no default maximum edge length; give --max-edge");
+  }
+  // DESIGN §4: the minimum density h defaults to a fraction of the scene size.
+  return diagonal / 20.0;
+}
+
+TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options) {
+  check_options(options);
+  try {
+    check_polygons(surface);
+    return surface.planar ? mesh_planar(surface, options) : mesh_curved(surface, options);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("surface '" + surface.name + "': " + e.what());
+  }
+}
+
 }  // namespace lhr

@@ -252,6 +252,7 @@ std::vector<VertexId> SurfaceHierarchy::t_vertices() const {
 
 ConformingMesh SurfaceHierarchy::conforming_mesh() const {
   std::vector<std::array<VertexId, 3>> triangles;
+  std::vector<NodeId> triangle_leaf;
   triangles.reserve(num_leaves_ + num_leaves_ / 2);
   for (NodeId n = 0; n < static_cast<NodeId>(nodes_.size()); ++n) {
     if (!is_leaf(n)) continue;
@@ -301,9 +302,11 @@ ConformingMesh SurfaceHierarchy::conforming_mesh() const {
         triangles.push_back({b, mc, a});
       }
     }
+    triangle_leaf.resize(triangles.size(), n);
   }
 
   ConformingMesh out;
+  out.leaf = std::move(triangle_leaf);
   std::vector<int> exported(mesh_.n_vertices(), -1);
   for (const auto& t : triangles) {
     for (const VertexId x : t) exported[x] = 0;

@@ -35,6 +35,7 @@ constexpr VertexId kNoVertex = -1;
 struct ConformingMesh {
   TriMesh mesh;                      // leaf triangles, T-vertices closed, counter-clockwise
   std::vector<VertexId> source;      // per exported vertex: the hierarchy vertex it is
+  std::vector<NodeId> leaf;          // per exported face: the leaf it covers part of
 };
 
 class SurfaceHierarchy {

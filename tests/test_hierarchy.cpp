@@ -499,6 +499,30 @@ TEST(Hierarchy, RandomSplitsExportPassesConformingCheck) {
   });
 }
 
+TEST(Hierarchy, ExportedFacesTileTheirLeaves) {
+  // Each exported face names the leaf it lies in: the faces of one leaf
+  // cover exactly its area, and every face's centroid is inside that leaf.
+  SurfaceHierarchy h(grid_mesh());
+  random_splits(h, 11, [](int) {});
+  const ConformingMesh out = h.conforming_mesh();
+  ASSERT_EQ(out.leaf.size(), out.mesh.n_faces());
+  std::map<NodeId, double> covered;
+  for (const auto fh : out.mesh.faces()) {
+    const NodeId leaf = out.leaf[fh.idx()];
+    ASSERT_TRUE(h.is_leaf(leaf));
+    covered[leaf] += out.mesh.calc_face_area(fh);
+    if (fh.idx() % 97 == 0) {
+      EXPECT_EQ(leaf_containing(h, out.mesh.calc_face_centroid(fh)), leaf);
+    }
+  }
+  EXPECT_EQ(covered.size(), h.num_leaves());
+  for (const auto& [leaf, area] : covered) {
+    const auto& v = h.corners(leaf);
+    const double leaf_area = 0.5 * std::abs(signed_area2(h.point(v[0]), h.point(v[1]), h.point(v[2])));
+    EXPECT_NEAR(area, leaf_area, 1e-12 * leaf_area);
+  }
+}
+
 TEST(Hierarchy, SameSeedSameHierarchy) {
   SurfaceHierarchy a(grid_mesh());
   SurfaceHierarchy b(grid_mesh());

@@ -1,0 +1,420 @@
+#include "radiosity/classical_solver.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "radiosity/form_factor.hpp"
+#include "radiosity/sampling.hpp"
+#include "radiosity/tone_map.hpp"
+
+namespace lhr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// At most this many root triangles stand for a whole surface when a surface-
+// level link's coefficient is estimated (Hanrahan's input-polygon links are
+// estimates too; any link that carries energy is refined below that level).
+constexpr std::size_t kSurfaceSamples = 16;
+// Refinement passes per iteration: each pass goes one level deeper.
+constexpr int kMaxRefinePasses = 40;
+
+std::vector<NodeId> strided_roots(const SurfaceHierarchy& h, std::size_t count) {
+  std::vector<NodeId> out;
+  const std::size_t n = h.num_roots();
+  const std::size_t step = std::max<std::size_t>(1, n / count);
+  for (std::size_t i = step / 2; i < n && out.size() < count; i += step) out.push_back(static_cast<NodeId>(i));
+  return out;
+}
+
+// Whether a planar surface has a point strictly in front of the other's plane.
+bool some_point_in_front(const Surface& a, const Surface& b, double eps) {
+  if (!b.planar) return true;
+  const Vec3& origin = b.points.front();
+  return std::any_of(a.points.begin(), a.points.end(),
+                     [&](const Vec3& p) { return OpenMesh::dot(b.normal, p - origin) > eps; });
+}
+
+}  // namespace
+
+ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& options)
+    : model_(model), options_(options) {
+  surfaces_.resize(model_.num_surfaces());
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    max_emitted_ = std::max(max_emitted_, luminance(model_.material(s).emission));
+  }
+  const double min_edge = options_.min_edge > 0 ? options_.min_edge : model_.max_edge() / 32.0;
+  min_area_ = std::sqrt(3.0) / 4.0 * min_edge * min_edge;
+  for (int s = 0; s < model_.num_surfaces(); ++s) sync_node_arrays(s);
+}
+
+void ClassicalSolver::sync_node_arrays(int s) {
+  SurfaceState& st = surfaces_[s];
+  const SurfaceHierarchy& h = model_.hierarchy(s);
+  const std::size_t old_size = st.radiance.size();
+  const std::size_t n = h.num_nodes();
+  if (n == old_size) return;
+  st.radiance.resize(n, Rgb(0, 0, 0));
+  st.gathered.resize(n, Rgb(0, 0, 0));
+  st.links.resize(n);
+  // Constant elements: a new child starts with its parent's radiance (push);
+  // a new root is unlit until the first push-pull.
+  for (std::size_t i = old_size; i < n; ++i) {
+    const NodeId parent = h.parent(static_cast<NodeId>(i));
+    st.radiance[i] = parent == kNoNode ? model_.material(s).emission : st.radiance[parent];
+  }
+}
+
+const Rgb& ClassicalSolver::element_radiance(const Element& e) const {
+  const SurfaceState& st = surfaces_[e.surface];
+  return e.node == kSurfaceElement ? st.surface_radiance : st.radiance[e.node];
+}
+
+double ClassicalSolver::element_area(const Element& e) const {
+  return e.node == kSurfaceElement ? model_.surface_area(e.surface) : model_.area(e.surface, e.node);
+}
+
+std::vector<ClassicalSolver::Link>& ClassicalSolver::links_of(const Element& e) {
+  return surfaces_[e.surface].links[e.node];
+}
+
+std::size_t ClassicalSolver::count_links() const {
+  std::size_t n = 0;
+  for (const SurfaceState& st : surfaces_) {
+    for (const auto& l : st.links) n += l.size();
+  }
+  return n;
+}
+
+void ClassicalSolver::link_surfaces() {
+  const Scene& scene = model_.scene();
+  const double eps = 1e-9 * model_.rays().diagonal();
+  std::vector<PendingLink> pending;
+  for (int r = 0; r < model_.num_surfaces(); ++r) {
+    for (int s = 0; s < model_.num_surfaces(); ++s) {
+      // A surface does not light itself: planar ones cannot, and curved
+      // self-transfer is left to the other surfaces' links (documented limit).
+      if (r == s) continue;
+      const Surface& receiver = scene.surfaces[r];
+      const Surface& shooter = scene.surfaces[s];
+      if (!some_point_in_front(shooter, receiver, eps) || !some_point_in_front(receiver, shooter, eps)) continue;
+      // Receivers start at the roots: receiving links live on leaves only
+      // (see refine_links), shooters start as whole surfaces.
+      for (std::size_t f = 0; f < model_.hierarchy(r).num_roots(); ++f) {
+        pending.push_back({{r, static_cast<NodeId>(f)}, {s, kSurfaceElement}, 0.0f});
+      }
+    }
+  }
+  compute_coefficients(pending);
+  for (const PendingLink& p : pending) {
+    if (p.form_factor > 0.0f) links_of(p.receiver).push_back({p.shooter, p.form_factor, p.oracle});
+  }
+}
+
+float ClassicalSolver::coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const {
+  // Points where the receiver's form factor is evaluated, and the shooter's
+  // triangles it is evaluated against (exact, Lambert).
+  struct Point {
+    Vec3 p, n;
+  };
+  std::vector<Point> ff_points;
+  std::vector<Point> receiver_vis, shooter_vis;
+  std::vector<std::array<Vec3, 3>> shooter_triangles;
+
+  const auto element_key = [](const Element& e) {
+    return (static_cast<std::uint64_t>(e.surface) << 32) | static_cast<std::uint32_t>(e.node + 2);
+  };
+  const std::uint64_t key = sample_key(element_key(receiver), element_key(shooter));
+  const int k = std::max(1, options_.visibility_samples);
+
+  const auto add_samples = [&](const Element& e, std::vector<Point>& out, std::uint64_t salt) {
+    if (e.node == kSurfaceElement) {
+      for (NodeId root : strided_roots(model_.hierarchy(e.surface), kSurfaceSamples)) {
+        out.push_back({model_.centroid(e.surface, root), model_.normal(e.surface, root)});
+      }
+    } else {
+      const auto tri = model_.triangle(e.surface, e.node);
+      const Vec3 n = model_.normal(e.surface, e.node);
+      for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, salt))) {
+        out.push_back({at(tri, ts), n});
+      }
+    }
+  };
+
+  if (receiver.node == kSurfaceElement) {
+    for (NodeId root : strided_roots(model_.hierarchy(receiver.surface), kSurfaceSamples)) {
+      ff_points.push_back({model_.centroid(receiver.surface, root), model_.normal(receiver.surface, root)});
+    }
+  } else {
+    ff_points.push_back({model_.centroid(receiver.surface, receiver.node), model_.normal(receiver.surface, receiver.node)});
+  }
+  if (shooter.node == kSurfaceElement) {
+    const SurfaceHierarchy& h = model_.hierarchy(shooter.surface);
+    for (std::size_t f = 0; f < h.num_roots(); ++f) {
+      shooter_triangles.push_back(model_.triangle(shooter.surface, static_cast<NodeId>(f)));
+    }
+  } else {
+    shooter_triangles.push_back(model_.triangle(shooter.surface, shooter.node));
+  }
+
+  double ff = 0.0;
+  for (const Point& x : ff_points) {
+    for (const auto& tri : shooter_triangles) ff += point_triangle_form_factor(x.p, x.n, tri);
+  }
+  ff /= static_cast<double>(ff_points.size());
+  if (!(ff > 0.0)) return 0.0f;
+
+  add_samples(receiver, receiver_vis, 1);
+  add_samples(shooter, shooter_vis, 2);
+  const std::size_t pairs = std::max(receiver_vis.size(), shooter_vis.size());
+  const RayScene& scene = model_.rays();
+  std::vector<ShadowRay> segments;
+  segments.reserve(pairs);
+  for (std::size_t i = 0; i < pairs; ++i) {
+    const Point& a = receiver_vis[i % receiver_vis.size()];
+    const Point& b = shooter_vis[i % shooter_vis.size()];
+    segments.push_back({scene.lift(a.p, a.n), scene.lift(b.p, b.n)});
+  }
+  std::vector<std::uint8_t> blocked(segments.size());
+  scene.occluded(segments, blocked);
+  rays += segments.size();
+  std::size_t clear = 0;
+  for (std::uint8_t b : blocked) clear += b ? 0 : 1;
+  return static_cast<float>(ff * static_cast<double>(clear) / static_cast<double>(pairs));
+}
+
+void ClassicalSolver::compute_coefficients(std::vector<PendingLink>& pending) {
+  const auto start = Clock::now();
+  std::atomic<std::uint64_t> rays{0};
+  tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t i) {
+    std::uint64_t local = 0;
+    PendingLink& p = pending[i];
+    p.form_factor = coefficient(p.receiver, p.shooter, local);
+    p.oracle = static_cast<float>(std::max<double>(p.form_factor, estimate_form_factor(p.receiver, p.shooter)));
+    rays += local;
+  });
+  stats_.shadow_rays += rays.load();
+  stats_.seconds_coefficients += seconds_since(start);
+}
+
+double ClassicalSolver::estimate_form_factor(const Element& receiver, const Element& shooter) const {
+  if (receiver.node == kSurfaceElement || shooter.node == kSurfaceElement) return 1.0;
+  // Hanrahan's oracle: the form factor of a disc of the shooter's area seen
+  // from the receiver's centre, A cosθi cosθj / (π r² + A).
+  const Vec3 ci = model_.centroid(receiver.surface, receiver.node);
+  const Vec3 cj = model_.centroid(shooter.surface, shooter.node);
+  const Vec3 d = cj - ci;
+  const double r2 = d.sqrnorm();
+  const double r = std::sqrt(r2);
+  if (!(r > 0)) return 1.0;
+  const double cos_i = std::max(0.0, OpenMesh::dot(model_.normal(receiver.surface, receiver.node), d) / r);
+  const double cos_j = std::max(0.0, -OpenMesh::dot(model_.normal(shooter.surface, shooter.node), d) / r);
+  const double a = model_.area(shooter.surface, shooter.node);
+  // Near-contact elements (one's centre at the other's horizon) keep a
+  // bound that does not vanish: use the unclipped cosines' magnitudes.
+  const double bound = a / (M_PI * r2 + a);
+  return std::max(bound * cos_i * cos_j, (cos_i == 0.0 || cos_j == 0.0) ? 0.5 * bound : 0.0);
+}
+
+bool ClassicalSolver::refine_links() {
+  const auto start = Clock::now();
+  const double threshold = options_.eps_bf * max_emitted_;
+  const bool budget = options_.max_links > 0;
+  std::size_t links_now = budget ? count_links() : 0;
+  std::vector<PendingLink> pending;
+  bool changed = false;
+
+  const auto splittable = [&](const Element& e) {
+    return e.node == kSurfaceElement || model_.area(e.surface, e.node) > 4.0 * min_area_;
+  };
+  const auto split_node = [&](const Element& e) {
+    SurfaceHierarchy& h = model_.hierarchy(e.surface);
+    if (h.is_leaf(e.node)) {
+      h.split(e.node);
+      sync_node_arrays(e.surface);
+    }
+  };
+  const auto children_of = [&](const Element& e) {
+    std::vector<Element> out;
+    if (e.node == kSurfaceElement) {
+      const SurfaceHierarchy& h = model_.hierarchy(e.surface);
+      for (std::size_t f = 0; f < h.num_roots(); ++f) out.push_back({e.surface, static_cast<NodeId>(f)});
+      return out;
+    }
+    split_node(e);
+    for (int c = 0; c < 4; ++c) out.push_back({e.surface, model_.hierarchy(e.surface).child(e.node, c)});
+    return out;
+  };
+
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    // Nodes created during this pass have no links yet: the pass goes one level deeper at most.
+    const NodeId count = static_cast<NodeId>(model_.hierarchy(s).num_nodes());
+    for (NodeId n = 0; n < count; ++n) {
+      if (surfaces_[s].links[n].empty()) continue;
+      const Element receiver{s, n};
+      const std::vector<Link> list = std::move(links_of(receiver));
+      // Receiving links live on leaves. A leaf's links then partition what
+      // it sees, evaluated at one point, so in a closed scene its row sums
+      // to 1 and the furnace holds at every element; coefficients kept on a
+      // coarse ancestor were evaluated away from the leaf and break that.
+      // A receiver split (by its links, a forced split, or as a shooter)
+      // therefore hands all its links to its children.
+      bool push_down = !model_.hierarchy(s).is_leaf(n);
+      std::vector<Link> kept;
+      std::vector<PendingLink> local;
+      for (const Link& link : list) {
+        if (push_down || (budget && links_now >= options_.max_links)) {
+          if (!push_down) stats_.link_budget_reached = true;
+          kept.push_back(link);
+          continue;
+        }
+        const double transfer = luminance(element_radiance(link.shooter)) * link.oracle;
+        const bool can_receiver = splittable(receiver), can_shooter = splittable(link.shooter);
+        if (!(transfer > threshold) || (!can_receiver && !can_shooter)) {
+          kept.push_back(link);
+          continue;
+        }
+        // Hanrahan: split the larger of the two.
+        if (can_receiver && (!can_shooter || element_area(receiver) >= element_area(link.shooter))) {
+          push_down = true;
+          kept.push_back(link);
+        } else {
+          for (const Element& child : children_of(link.shooter)) local.push_back({receiver, child, 0.0f});
+          links_now += 3;
+        }
+      }
+      if (push_down) {
+        changed = true;
+        const std::vector<Element> children = children_of(receiver);
+        for (const Link& link : kept) {
+          for (const Element& child : children) pending.push_back({child, link.shooter, 0.0f});
+        }
+        for (const PendingLink& p : local) {
+          for (const Element& child : children) pending.push_back({child, p.shooter, 0.0f});
+        }
+        links_now += 3 * (kept.size() + local.size());
+        kept.clear();
+      } else {
+        changed |= !local.empty();
+        pending.insert(pending.end(), local.begin(), local.end());
+      }
+      links_of(receiver) = std::move(kept);
+    }
+  }
+  stats_.seconds_refine += seconds_since(start);
+
+  compute_coefficients(pending);
+  for (const PendingLink& p : pending) {
+    if (p.form_factor > 0.0f) links_of(p.receiver).push_back({p.shooter, p.form_factor, p.oracle});
+  }
+  return changed;
+}
+
+void ClassicalSolver::gather() {
+  const auto start = Clock::now();
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    SurfaceState& st = surfaces_[s];
+    const auto sum = [&](const std::vector<Link>& links) {
+      Rgb g(0, 0, 0);
+      for (const Link& l : links) g += static_cast<double>(l.form_factor) * element_radiance(l.shooter);
+      return g;
+    };
+    tbb::parallel_for(std::size_t{0}, st.links.size(), [&](std::size_t n) { st.gathered[n] = sum(st.links[n]); });
+  }
+  stats_.seconds_gather += seconds_since(start);
+}
+
+double ClassicalSolver::push_pull() {
+  const auto start = Clock::now();
+  std::vector<double> change(model_.num_surfaces(), 0.0);
+  tbb::parallel_for(0, model_.num_surfaces(), [&](int s) {
+    SurfaceState& st = surfaces_[s];
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    const Material& m = model_.material(s);
+    // Hanrahan's PushPull for constant elements: gathered radiance flows down
+    // unchanged, leaves add emission and reflect, parents take the mean of
+    // their four equal-area children.
+    const auto visit = [&](const auto& self, NodeId n, const Rgb& from_above) -> Rgb {
+      const Rgb total = from_above + st.gathered[n];
+      Rgb value;
+      if (h.is_leaf(n)) {
+        for (int c = 0; c < 3; ++c) value[c] = m.emission[c] + m.reflectance[c] * total[c];
+        change[s] = std::max(change[s], std::abs(luminance(value) - luminance(st.radiance[n])));
+      } else {
+        value = Rgb(0, 0, 0);
+        for (int c = 0; c < 4; ++c) value += self(self, h.child(n, c), total);
+        value *= 0.25;
+      }
+      st.radiance[n] = value;
+      return value;
+    };
+    Rgb weighted(0, 0, 0);
+    for (std::size_t f = 0; f < h.num_roots(); ++f) {
+      const NodeId root = static_cast<NodeId>(f);
+      weighted += model_.area(s, root) * visit(visit, root, Rgb(0, 0, 0));
+    }
+    st.surface_radiance = weighted / std::max(model_.surface_area(s), 1e-300);
+  });
+  stats_.seconds_push_pull += seconds_since(start);
+  return *std::max_element(change.begin(), change.end());
+}
+
+void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
+  link_surfaces();
+  push_pull();  // leaves start at their emission
+  const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
+  for (int it = 1; it <= options_.max_iterations; ++it) {
+    bool refined = false;
+    for (int pass = 0; pass < kMaxRefinePasses && refine_links(); ++pass) refined = true;
+    gather();
+    const double change = push_pull() / scale;
+    stats_.iterations = it;
+    stats_.final_change = change;
+    if (progress) progress(it, change);
+    if (!refined && change < options_.tolerance) break;
+  }
+  stats_.links = count_links();
+  stats_.nodes = 0;
+  stats_.leaves = 0;
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    stats_.nodes += model_.hierarchy(s).num_nodes();
+    stats_.leaves += model_.hierarchy(s).num_leaves();
+  }
+}
+
+double ClassicalSolver::row_sum(int s, NodeId n) const {
+  const SurfaceState& st = surfaces_[s];
+  double sum = 0.0;
+  for (NodeId a = n; a != kNoNode; a = model_.hierarchy(s).parent(a)) {
+    for (const Link& l : st.links[a]) sum += l.form_factor;
+  }
+  return sum;
+}
+
+std::vector<Rgb> ClassicalSolver::vertex_radiance(int s, const ConformingMesh& mesh) const {
+  std::vector<Rgb> sum(mesh.mesh.n_vertices(), Rgb(0, 0, 0));
+  std::vector<double> weight(mesh.mesh.n_vertices(), 0.0);
+  for (const auto fh : mesh.mesh.faces()) {
+    const double a = mesh.mesh.calc_face_area(fh);
+    const Rgb& value = surfaces_[s].radiance[mesh.leaf[fh.idx()]];
+    for (const auto vh : mesh.mesh.fv_range(fh)) {
+      sum[vh.idx()] += a * value;
+      weight[vh.idx()] += a;
+    }
+  }
+  for (std::size_t v = 0; v < sum.size(); ++v) {
+    if (weight[v] > 0) sum[v] /= weight[v];
+  }
+  return sum;
+}
+
+}  // namespace lhr

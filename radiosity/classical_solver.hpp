@@ -1,0 +1,115 @@
+#pragma once
+// Classical hierarchical radiosity (Hanrahan, Salzman, Aupperle 1991): the
+// constant-element baseline the paper's method is charted against (DESIGN §4
+// "Classical HR baseline").
+//
+// Elements are the quadtree nodes of every surface, plus one virtual element
+// per surface above its roots (the input polygon of Hanrahan's method), so
+// the first links are surface to surface, not initial triangle to triangle.
+// Radiance, not radiosity, is carried: L = Le + ρ Σ F L (B = πL, same form).
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "radiosity/scene_model.hpp"
+
+namespace lhr {
+
+struct ClassicalOptions {
+  // A link from shooter j to receiver i is refined while L_j·F_ij exceeds
+  // eps_bf times the brightest emitted luminance.
+  double eps_bf = 1e-3;
+  // Elements whose edges are shorter than this (scene units) are not split;
+  // 0 = h/32.
+  double min_edge = 0.0;
+  int max_iterations = 100;
+  // Stop when no link was refined and no leaf radiance changed by more than
+  // tolerance times the brightest emitted luminance.
+  double tolerance = 1e-5;
+  int visibility_samples = 4;  // k: k² shadow rays per element link
+  std::size_t max_links = 0;   // 0 = no limit
+};
+
+struct ClassicalStats {
+  std::size_t links = 0;
+  std::size_t leaves = 0;
+  std::size_t nodes = 0;
+  int iterations = 0;
+  bool link_budget_reached = false;
+  std::uint64_t shadow_rays = 0;
+  double seconds_refine = 0.0;        // oracle and splits
+  double seconds_coefficients = 0.0;  // form factors and visibility of new links
+  double seconds_gather = 0.0;
+  double seconds_push_pull = 0.0;
+  double final_change = 0.0;  // relative to the brightest emitted luminance
+};
+
+class ClassicalSolver {
+ public:
+  ClassicalSolver(SceneModel& model, const ClassicalOptions& options);
+
+  // Iterates refine / gather / push-pull until converged. progress(iteration,
+  // change) is called after each iteration when given.
+  void solve(const std::function<void(int, double)>& progress = {});
+
+  // Radiance of a leaf (or any node) of surface s.
+  const Rgb& radiance(int s, NodeId n) const { return surfaces_[s].radiance[n]; }
+  // Per vertex of a conforming mesh of surface s: area-weighted average of
+  // the leaves around it (constant elements have no vertex values of their own).
+  std::vector<Rgb> vertex_radiance(int s, const ConformingMesh& mesh) const;
+
+  const ClassicalStats& stats() const { return stats_; }
+
+  // Σ of the coefficients that reach node n of surface s through its own,
+  // its ancestors' and its surface's links: 1 in a closed scene (furnace).
+  double row_sum(int s, NodeId n) const;
+
+ private:
+  static constexpr NodeId kSurfaceElement = -2;
+  struct Element {
+    std::int32_t surface;
+    NodeId node;  // kSurfaceElement: the whole surface
+  };
+  struct Link {
+    Element shooter;
+    float form_factor;
+    float oracle;  // form factor bound the BF test uses, fixed when the link is made
+  };
+  struct SurfaceState {
+    std::vector<Rgb> radiance;  // per node
+    std::vector<Rgb> gathered;  // per node
+    std::vector<std::vector<Link>> links;  // per node: links this node receives
+    Rgb surface_radiance{0, 0, 0};  // area-weighted mean, for surface-level shooters
+  };
+  struct PendingLink {
+    Element receiver;
+    Element shooter;
+    float form_factor = 0.0f;
+    float oracle = 0.0f;
+  };
+
+  void link_surfaces();
+  bool refine_links();
+  void compute_coefficients(std::vector<PendingLink>& pending);
+  float coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const;
+  double estimate_form_factor(const Element& receiver, const Element& shooter) const;
+  void gather();
+  double push_pull();
+  void sync_node_arrays(int s);
+  const Rgb& element_radiance(const Element& e) const;
+  double element_area(const Element& e) const;
+  std::vector<Link>& links_of(const Element& e);
+  std::size_t count_links() const;
+
+  SceneModel& model_;
+  ClassicalOptions options_;
+  std::vector<SurfaceState> surfaces_;
+  double max_emitted_ = 0.0;
+  double min_area_ = 0.0;
+  ClassicalStats stats_;
+};
+
+}  // namespace lhr

@@ -1,0 +1,42 @@
+#include "radiosity/scene_model.hpp"
+
+namespace lhr {
+
+SceneModel::SceneModel(const Scene& scene, const MeshingOptions& meshing)
+    : scene_(&scene), max_edge_(meshing.max_edge) {
+  hierarchies_.reserve(scene.surfaces.size());
+  for (const Surface& surface : scene.surfaces) hierarchies_.emplace_back(mesh_surface(surface, meshing));
+  std::vector<const TriMesh*> meshes;
+  for (int s = 0; s < num_surfaces(); ++s) {
+    meshes.push_back(&hierarchies_[s].mesh());
+    double total = 0.0;
+    for (std::size_t f = 0; f < hierarchies_[s].num_roots(); ++f) total += area(s, static_cast<NodeId>(f));
+    surface_area_.push_back(total);
+  }
+  rays_ = std::make_unique<RayScene>(meshes);
+}
+
+std::array<Vec3, 3> SceneModel::triangle(int s, NodeId n) const {
+  const SurfaceHierarchy& h = hierarchies_[s];
+  const auto& c = h.corners(n);
+  return {h.point(c[0]), h.point(c[1]), h.point(c[2])};
+}
+
+double SceneModel::area(int s, NodeId n) const {
+  const auto t = triangle(s, n);
+  return 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
+}
+
+Vec3 SceneModel::normal(int s, NodeId n) const {
+  const auto t = triangle(s, n);
+  const Vec3 c = OpenMesh::cross(t[1] - t[0], t[2] - t[0]);
+  const double len = c.norm();
+  return len > 0 ? c / len : Vec3(0, 0, 0);
+}
+
+Vec3 SceneModel::centroid(int s, NodeId n) const {
+  const auto t = triangle(s, n);
+  return (t[0] + t[1] + t[2]) / 3.0;
+}
+
+}  // namespace lhr

@@ -1,0 +1,44 @@
+#pragma once
+// A scene ready for radiosity: every surface meshed to the minimum density
+// with its restricted quadtree, its material, and one Embree scene over the
+// initial triangles (refinement splits flat triangles, so it never changes
+// the geometry rays see).
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "mesh/hierarchy.hpp"
+#include "mesh/initial_mesh.hpp"
+#include "mesh/scene.hpp"
+#include "radiosity/ray_scene.hpp"
+
+namespace lhr {
+
+class SceneModel {
+ public:
+  SceneModel(const Scene& scene, const MeshingOptions& meshing);
+
+  const Scene& scene() const { return *scene_; }
+  int num_surfaces() const { return static_cast<int>(hierarchies_.size()); }
+  SurfaceHierarchy& hierarchy(int s) { return hierarchies_[s]; }
+  const SurfaceHierarchy& hierarchy(int s) const { return hierarchies_[s]; }
+  const Material& material(int s) const { return scene_->materials[scene_->surfaces[s].material]; }
+  const RayScene& rays() const { return *rays_; }
+  double max_edge() const { return max_edge_; }
+  double surface_area(int s) const { return surface_area_[s]; }
+
+  std::array<Vec3, 3> triangle(int s, NodeId n) const;
+  double area(int s, NodeId n) const;
+  Vec3 normal(int s, NodeId n) const;  // unit, front side
+  Vec3 centroid(int s, NodeId n) const;
+
+ private:
+  const Scene* scene_;
+  std::vector<SurfaceHierarchy> hierarchies_;
+  std::vector<double> surface_area_;
+  std::unique_ptr<RayScene> rays_;
+  double max_edge_ = 0.0;
+};
+
+}  // namespace lhr

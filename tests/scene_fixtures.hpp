@@ -1,0 +1,67 @@
+#pragma once
+// Small scenes built in code for solver tests.
+
+#include <string>
+#include <vector>
+
+#include "mesh/scene.hpp"
+#include "mesh/surfaces.hpp"
+
+namespace lhr::test {
+
+// Adds a quad (counter-clockwise seen from its front) to a soup.
+inline void add_quad(PolygonSoup& soup, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int material,
+                     int group) {
+  const int first = static_cast<int>(soup.points.size());
+  for (const Vec3& p : {a, b, c, d}) soup.points.push_back(p);
+  soup.faces.push_back({{first, first + 1, first + 2, first + 3}, material, group, 0});
+}
+
+inline Scene scene_from_soup(const PolygonSoup& soup, const std::string& name) {
+  Scene scene;
+  scene.source = name;
+  scene.materials = soup.materials;
+  scene.surfaces = split_into_surfaces(soup, 30.0).surfaces;
+  return scene;
+}
+
+// Closed unit cube, every face seen from inside, one material.
+inline Scene furnace_cube(double reflectance, double emission) {
+  PolygonSoup soup;
+  Material m;
+  m.name = "furnace";
+  m.reflectance = Rgb(reflectance, reflectance, reflectance);
+  m.emission = Rgb(emission, emission, emission);
+  soup.materials.push_back(m);
+  soup.groups = {"cube"};
+  const Vec3 p000(0, 0, 0), p100(1, 0, 0), p010(0, 1, 0), p110(1, 1, 0);
+  const Vec3 p001(0, 0, 1), p101(1, 0, 1), p011(0, 1, 1), p111(1, 1, 1);
+  add_quad(soup, p000, p100, p110, p010, 0, 0);  // z = 0, faces +z
+  add_quad(soup, p001, p011, p111, p101, 0, 0);  // z = 1, faces −z
+  add_quad(soup, p000, p001, p101, p100, 0, 0);  // y = 0, faces +y
+  add_quad(soup, p010, p110, p111, p011, 0, 0);  // y = 1, faces −y
+  add_quad(soup, p000, p010, p011, p001, 0, 0);  // x = 0, faces +x
+  add_quad(soup, p100, p101, p111, p110, 0, 0);  // x = 1, faces −x
+  return scene_from_soup(soup, "furnace cube");
+}
+
+// A square emitter (Kd 0) of side `size` at height `height`, facing down,
+// centred over a unit receiver square in z = 0 facing up.
+inline Scene emitter_over_receiver(double size, double height, double receiver_reflectance, double emission) {
+  PolygonSoup soup;
+  Material receiver;
+  receiver.name = "receiver";
+  receiver.reflectance = Rgb(receiver_reflectance, receiver_reflectance, receiver_reflectance);
+  Material light;
+  light.name = "light";
+  light.reflectance = Rgb(0, 0, 0);
+  light.emission = Rgb(emission, emission, emission);
+  soup.materials = {receiver, light};
+  soup.groups = {"receiver", "light"};
+  add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
+  const double lo = 0.5 - size / 2, hi = 0.5 + size / 2;
+  add_quad(soup, Vec3(lo, lo, height), Vec3(lo, hi, height), Vec3(hi, hi, height), Vec3(hi, lo, height), 1, 1);
+  return scene_from_soup(soup, "emitter over receiver");
+}
+
+}  // namespace lhr::test

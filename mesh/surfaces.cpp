@@ -1,5 +1,216 @@
 #include "mesh/surfaces.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace lhr {
-SurfaceSplit split_into_surfaces(const PolygonSoup&, double) { throw std::logic_error("not implemented"); }
+
+namespace {
+
+// Faces whose area is at most this fraction of the squared bounding-box
+// diagonal carry no energy and have no usable normal (DESIGN §3).
+constexpr double kZeroAreaRelative = 1e-12;
+// A surface is planar when every point lies within this fraction of its
+// extent from the best-fit plane; planar surfaces get the 2D mesher (DESIGN §4).
+constexpr double kPlanarRelative = 1e-6;
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int find(int x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    // The smaller root wins so a component's root is its first face.
+    if (b < a) std::swap(a, b);
+    parent_[b] = a;
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+// Twice the vector area of a polygon (Newell's method). Summing cross
+// products about the first point keeps it accurate far from the origin.
+Vec3 newell_vector(const std::vector<Vec3>& points, const std::vector<int>& polygon) {
+  Vec3 sum(0, 0, 0);
+  const Vec3& origin = points[polygon[0]];
+  for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+    sum += OpenMesh::cross(points[polygon[i]] - origin, points[polygon[i + 1]] - origin);
+  }
+  return sum;
+}
+
+// Positions that are bit-for-bit equal (with -0 == +0) share an id: OBJ
+// exporters duplicate vertices per face, which must not cut a surface.
+std::vector<int> weld_positions(const std::vector<Vec3>& points) {
+  std::map<std::array<double, 3>, int> ids;
+  std::vector<int> weld(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::array<double, 3> key{points[i][0] + 0.0, points[i][1] + 0.0, points[i][2] + 0.0};
+    weld[i] = ids.emplace(key, static_cast<int>(ids.size())).first->second;
+  }
+  return weld;
+}
+
+// The angle between two unit vectors, accurate near 0 and 180 degrees.
+double angle_deg(const Vec3& a, const Vec3& b) {
+  return std::atan2(OpenMesh::cross(a, b).norm(), OpenMesh::dot(a, b)) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg) {
+  if (!std::isfinite(crease_angle_deg) || crease_angle_deg < 0.0 || crease_angle_deg > 180.0) {
+    throw std::invalid_argument("crease angle must be in [0, 180] degrees, got " +
+                                std::to_string(crease_angle_deg));
+  }
+  SurfaceSplit split;
+  const std::size_t n_faces = soup.faces.size();
+
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Vec3 lo(kInf, kInf, kInf);
+  Vec3 hi(-kInf, -kInf, -kInf);
+  for (const InputFace& f : soup.faces) {
+    for (int v : f.vertices) {
+      lo.minimize(soup.points[v]);
+      hi.maximize(soup.points[v]);
+    }
+  }
+  const double diagonal = n_faces > 0 ? (hi - lo).norm() : 0.0;
+  const double min_area = kZeroAreaRelative * diagonal * diagonal;
+
+  const std::vector<int> weld = weld_positions(soup.points);
+
+  // Welded polygons, with vertices that collapsed onto their neighbour removed.
+  std::vector<std::vector<int>> welded(n_faces);
+  std::vector<Vec3> normal(n_faces, Vec3(0, 0, 0));
+  std::vector<double> area(n_faces, 0.0);
+  std::vector<bool> kept(n_faces, false);
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    const std::vector<int>& in = soup.faces[f].vertices;
+    std::vector<int>& out = welded[f];
+    for (int v : in) {
+      if (out.empty() || weld[v] != weld[out.back()]) out.push_back(v);
+    }
+    while (out.size() > 1 && weld[out.front()] == weld[out.back()]) out.pop_back();
+    if (out.size() < 3) continue;
+    const Vec3 n = newell_vector(soup.points, out);
+    area[f] = 0.5 * n.norm();
+    if (!(area[f] > min_area)) continue;
+    normal[f] = n / n.norm();
+    kept[f] = true;
+  }
+  split.dropped_zero_area_faces = static_cast<int>(std::count(kept.begin(), kept.end(), false));
+
+  // Faces meeting along an undirected welded edge.
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    if (!kept[f]) continue;
+    const std::vector<int>& poly = welded[f];
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      int a = weld[poly[i]];
+      int b = weld[poly[(i + 1) % poly.size()]];
+      if (a > b) std::swap(a, b);
+      edge_faces[{a, b}].push_back(static_cast<int>(f));
+    }
+  }
+  UnionFind components(n_faces);
+  for (const auto& [edge, faces] : edge_faces) {
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      for (std::size_t j = i + 1; j < faces.size(); ++j) {
+        const InputFace& a = soup.faces[faces[i]];
+        const InputFace& b = soup.faces[faces[j]];
+        if (a.material != b.material || a.group != b.group) continue;
+        if (angle_deg(normal[faces[i]], normal[faces[j]]) > crease_angle_deg) continue;
+        components.unite(faces[i], faces[j]);
+      }
+    }
+  }
+
+  // Roots are each component's first face, so visiting faces in order gives
+  // surfaces ordered by first face index.
+  std::map<int, std::size_t> surface_of_root;
+  std::vector<std::map<int, int>> local_index;  // welded id -> index in the surface
+  std::vector<Vec3> newell_sum;
+  std::map<std::pair<int, int>, int> count_per_name;
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    if (!kept[f]) continue;
+    const int root = components.find(static_cast<int>(f));
+    auto [it, inserted] = surface_of_root.emplace(root, split.surfaces.size());
+    if (inserted) {
+      const InputFace& face = soup.faces[f];
+      Surface s;
+      s.material = face.material;
+      const int k = count_per_name[{face.group, face.material}]++;
+      s.name =
+          soup.groups.at(face.group) + "/" + soup.materials.at(face.material).name + "#" + std::to_string(k);
+      split.surfaces.push_back(std::move(s));
+      local_index.emplace_back();
+      newell_sum.emplace_back(0, 0, 0);
+    }
+    const std::size_t si = it->second;
+    Surface& s = split.surfaces[si];
+    std::vector<int> polygon;
+    polygon.reserve(welded[f].size());
+    for (int v : welded[f]) {
+      auto [li, fresh] = local_index[si].emplace(weld[v], static_cast<int>(s.points.size()));
+      if (fresh) s.points.push_back(soup.points[v]);
+      polygon.push_back(li->second);
+    }
+    s.polygons.push_back(std::move(polygon));
+    s.area += area[f];
+    newell_sum[si] += 2.0 * area[f] * normal[f];
+  }
+
+  for (std::size_t si = 0; si < split.surfaces.size(); ++si) {
+    Surface& s = split.surfaces[si];
+    Vec3 slo(kInf, kInf, kInf);
+    Vec3 shi(-kInf, -kInf, -kInf);
+    Vec3 centroid(0, 0, 0);
+    for (const Vec3& p : s.points) {
+      slo.minimize(p);
+      shi.maximize(p);
+      centroid += p;
+    }
+    centroid /= static_cast<double>(s.points.size());
+    const double extent = (shi - slo).norm();
+    // A closed or strongly curved surface has a near-zero summed normal; it
+    // is not planar and its largest polygon gives a representative front.
+    const double sum_norm = newell_sum[si].norm();
+    if (sum_norm > 1e-9 * 2.0 * s.area) {
+      s.normal = newell_sum[si] / sum_norm;
+      s.planar = std::all_of(s.points.begin(), s.points.end(), [&](const Vec3& p) {
+        return std::abs(OpenMesh::dot(p - centroid, s.normal)) <= kPlanarRelative * extent;
+      });
+    } else {
+      double best = -1.0;
+      for (const std::vector<int>& poly : s.polygons) {
+        const Vec3 n = newell_vector(s.points, poly);
+        if (n.norm() > best) {
+          best = n.norm();
+          s.normal = n / n.norm();
+        }
+      }
+      s.planar = false;
+    }
+  }
+  return split;
+}
+
 }  // namespace lhr

@@ -1,1 +1,433 @@
+// Scene loading and surface splitting (DESIGN §3): what a user's OBJ/MTL,
+// PLY, OFF and scene JSON turn into.
+
 #include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/scene_loader.hpp"
+#include "mesh/surfaces.hpp"
+#include "test_support.hpp"
+
+namespace lhr {
+namespace {
+
+using test::fresh_dir;
+using test::write_text;
+
+// Unit cube [0,1]^3 with outward, counter-clockwise faces.
+const char* const kCubeVertices =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+    "v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+const std::array<std::array<int, 4>, 6> kCubeQuads{{
+    {1, 4, 3, 2},  // z = 0, normal -z
+    {5, 6, 7, 8},  // z = 1, +z
+    {1, 2, 6, 5},  // y = 0, -y
+    {4, 8, 7, 3},  // y = 1, +y
+    {1, 5, 8, 4},  // x = 0, -x
+    {2, 3, 7, 6},  // x = 1, +x
+}};
+
+std::string cube_as_quads() {
+  std::string obj = kCubeVertices;
+  for (const auto& q : kCubeQuads) {
+    obj += "f " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+           std::to_string(q[3]) + "\n";
+  }
+  return obj;
+}
+
+std::string cube_as_triangles() {
+  std::string obj = kCubeVertices;
+  for (const auto& q : kCubeQuads) {
+    obj += "f " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + "\n";
+    obj += "f " + std::to_string(q[0]) + " " + std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+  }
+  return obj;
+}
+
+// Icosahedron subdivided `levels` times, projected to the unit sphere;
+// 20 * 4^levels outward triangles.
+std::string icosphere(int levels, bool duplicate_vertices) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Vec3> p{{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                      {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  for (Vec3& v : p) v.normalize();
+  std::vector<std::array<int, 3>> f{{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      p.push_back((0.5 * (p[a] + p[b])).normalized());
+      return mid[key] = static_cast<int>(p.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& tri : f) {
+      const int ab = midpoint(tri[0], tri[1]), bc = midpoint(tri[1], tri[2]), ca = midpoint(tri[2], tri[0]);
+      next.push_back({tri[0], ab, ca});
+      next.push_back({tri[1], bc, ab});
+      next.push_back({tri[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    f = next;
+  }
+  std::ostringstream obj;
+  obj.precision(17);
+  if (duplicate_vertices) {
+    int n = 0;
+    for (const auto& tri : f) {
+      for (int k : tri) obj << "v " << p[k][0] << ' ' << p[k][1] << ' ' << p[k][2] << '\n';
+      obj << "f " << n + 1 << ' ' << n + 2 << ' ' << n + 3 << '\n';
+      n += 3;
+    }
+  } else {
+    for (const Vec3& v : p) obj << "v " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    for (const auto& tri : f) obj << "f " << tri[0] + 1 << ' ' << tri[1] + 1 << ' ' << tri[2] + 1 << '\n';
+  }
+  return obj.str();
+}
+
+std::filesystem::path write(const std::string& dir, const std::string& name, const std::string& text) {
+  const auto path = fresh_dir(dir) / name;
+  write_text(path, text);
+  return path;
+}
+
+TEST(SceneLoader, OneMaterialBoxOfQuadsIsSixPlanarUnitSurfaces) {
+  const Scene scene = load_scene(write("box_quads", "box.obj", cube_as_quads())).scene;
+  ASSERT_EQ(scene.surfaces.size(), 6u);
+  std::set<std::array<int, 3>> normals;
+  for (const Surface& s : scene.surfaces) {
+    EXPECT_TRUE(s.planar) << s.name;
+    EXPECT_NEAR(s.area, 1.0, 1e-12) << s.name;
+    EXPECT_EQ(s.polygons.size(), 1u);
+    EXPECT_EQ(s.points.size(), 4u);
+    EXPECT_NEAR(s.normal.norm(), 1.0, 1e-12);
+    normals.insert({static_cast<int>(std::lround(s.normal[0])), static_cast<int>(std::lround(s.normal[1])),
+                    static_cast<int>(std::lround(s.normal[2]))});
+  }
+  // Six distinct axis directions: each face kept its outward orientation.
+  EXPECT_EQ(normals.size(), 6u);
+  EXPECT_EQ(scene.surfaces[0].name, "default/default#0");
+  EXPECT_EQ(scene.surfaces[5].name, "default/default#5");
+  // Input order is kept: the first quad is the z = 0 face, seen from below.
+  EXPECT_NEAR(scene.surfaces[0].normal[2], -1.0, 1e-12);
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].reflectance, Rgb(0.5, 0.5, 0.5));
+  EXPECT_FALSE(scene.materials[0].is_emitter());
+}
+
+TEST(SceneLoader, BoxOfTwelveTrianglesIsSixSurfacesOfTwo) {
+  const Scene scene = load_scene(write("box_tris", "box.obj", cube_as_triangles())).scene;
+  ASSERT_EQ(scene.surfaces.size(), 6u);
+  for (const Surface& s : scene.surfaces) {
+    EXPECT_EQ(s.polygons.size(), 2u);
+    EXPECT_EQ(s.points.size(), 4u);
+    EXPECT_TRUE(s.planar);
+    EXPECT_NEAR(s.area, 1.0, 1e-12);
+  }
+}
+
+TEST(SceneLoader, TessellatedSphereIsOneCurvedSurface) {
+  const auto path = write("sphere", "sphere.obj", icosphere(2, false));
+  const Scene scene = load_scene(path).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  const Surface& s = scene.surfaces[0];
+  EXPECT_FALSE(s.planar);
+  EXPECT_EQ(s.polygons.size(), 320u);
+  // Closed icosphere: V - E + F = 2 with E = 3F/2.
+  EXPECT_EQ(s.points.size(), 162u);
+  // Inscribed polyhedron: a little less than the sphere's 4*pi.
+  EXPECT_LT(s.area, 4.0 * M_PI);
+  EXPECT_GT(s.area, 0.95 * 4.0 * M_PI);
+  EXPECT_NEAR(s.normal.norm(), 1.0, 1e-9);
+}
+
+TEST(SceneLoader, CreaseAngleOverrideChangesTheSplit) {
+  // Adjacent faces of a level-2 icosphere meet at several degrees, so a 1°
+  // crease angle cuts along every edge: one surface per face.
+  const auto path = write("sphere_crease", "sphere.obj", icosphere(2, false));
+  LoadOptions options;
+  options.crease_angle_deg = 1.0;
+  EXPECT_EQ(load_scene(path, options).scene.surfaces.size(), 320u);
+
+  // The scene file's setting applies unless the options override it.
+  const auto json = path.parent_path() / "sphere.scene.json";
+  write_text(json, R"({"mesh": "sphere.obj", "meshing": {"crease_angle_deg": 1}})");
+  const LoadResult from_file = load_scene(json);
+  EXPECT_EQ(from_file.scene.surfaces.size(), 320u);
+  ASSERT_TRUE(from_file.scene.settings.crease_angle_deg.has_value());
+  EXPECT_EQ(*from_file.scene.settings.crease_angle_deg, 1.0);
+  options.crease_angle_deg = 30.0;
+  EXPECT_EQ(load_scene(json, options).scene.surfaces.size(), 1u);
+
+  // A box has 90° creases: 6 surfaces below 90°, one above.
+  const auto box = write("box_crease", "box.obj", cube_as_quads());
+  options.crease_angle_deg = 89.0;
+  EXPECT_EQ(load_scene(box, options).scene.surfaces.size(), 6u);
+  options.crease_angle_deg = 91.0;
+  EXPECT_EQ(load_scene(box, options).scene.surfaces.size(), 1u);
+}
+
+TEST(SceneLoader, GroupsAndMaterialsSeparateSurfacesAndMtlIsParsed) {
+  const auto dir = fresh_dir("groups");
+  write_text(dir / "room.mtl",
+             "newmtl white\nKd 0.8 0.7 0.6\n\n"
+             "newmtl lamp\nKd 0.1 0.2 0.3\nKe 10 20 30\n");
+  // Two coplanar quads sharing an edge: only the group/material cut them.
+  write_text(dir / "room.obj",
+             "mtllib room.mtl\n"
+             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+             "o floor\nusemtl white\nf 1 2 3 4\n"
+             "o light\nusemtl lamp\nf 2 5 6 3\n");
+  const Scene scene = load_scene(dir / "room.obj").scene;
+  ASSERT_EQ(scene.surfaces.size(), 2u);
+  EXPECT_EQ(scene.surfaces[0].name, "floor/white#0");
+  EXPECT_EQ(scene.surfaces[1].name, "light/lamp#0");
+  const Material& white = scene.materials.at(scene.surfaces[0].material);
+  const Material& lamp = scene.materials.at(scene.surfaces[1].material);
+  EXPECT_LT((white.reflectance - Rgb(0.8, 0.7, 0.6)).norm(), 1e-12);
+  EXPECT_FALSE(white.is_emitter());
+  EXPECT_LT((lamp.reflectance - Rgb(0.1, 0.2, 0.3)).norm(), 1e-12);
+  EXPECT_LT((lamp.emission - Rgb(10, 20, 30)).norm(), 1e-12);
+  EXPECT_TRUE(lamp.is_emitter());
+
+  // The same faces in one group with one material form one surface.
+  write_text(dir / "one.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n");
+  const Scene one = load_scene(dir / "one.obj").scene;
+  ASSERT_EQ(one.surfaces.size(), 1u);
+  EXPECT_EQ(one.surfaces[0].points.size(), 6u);
+  EXPECT_NEAR(one.surfaces[0].area, 2.0, 1e-12);
+}
+
+TEST(SceneLoader, SceneFileCameraAndSettingsAreParsed) {
+  const auto dir = fresh_dir("camera");
+  write_text(dir / "box.obj", cube_as_quads());
+  write_text(dir / "box.scene.json", R"({
+    "mesh": "box.obj",
+    "camera": {"eye": [0.5, 0.5, 3], "target": [0.5, 0.5, 0.5], "up": [0, 1, 0],
+               "fov_y_deg": 40, "width": 320, "height": 240},
+    "meshing": {"max_edge": 0.25}
+  })");
+  const LoadResult loaded = load_scene(dir / "box.scene.json");
+  const Scene& scene = loaded.scene;
+  ASSERT_TRUE(scene.camera.has_value());
+  EXPECT_EQ(scene.camera->eye, Vec3(0.5, 0.5, 3));
+  EXPECT_EQ(scene.camera->target, Vec3(0.5, 0.5, 0.5));
+  EXPECT_EQ(scene.camera->up, Vec3(0, 1, 0));
+  EXPECT_EQ(scene.camera->fov_y_deg, 40.0);
+  EXPECT_EQ(scene.camera->width, 320);
+  EXPECT_EQ(scene.camera->height, 240);
+  ASSERT_TRUE(scene.settings.max_edge.has_value());
+  EXPECT_EQ(*scene.settings.max_edge, 0.25);
+  EXPECT_FALSE(scene.settings.crease_angle_deg.has_value());
+  EXPECT_EQ(scene.surfaces.size(), 6u);
+  EXPECT_EQ(scene.source, (dir / "box.scene.json").string());
+  EXPECT_TRUE(loaded.warnings.empty());
+}
+
+TEST(SceneLoader, BareGeometryGetsTheFramingCamera) {
+  const Scene scene = load_scene(write("framing", "box.obj", cube_as_quads())).scene;
+  ASSERT_TRUE(scene.camera.has_value());
+  const Camera expected = framing_camera(scene);
+  EXPECT_EQ(scene.camera->eye, expected.eye);
+  EXPECT_EQ(scene.camera->target, Vec3(0.5, 0.5, 0.5));
+}
+
+TEST(SceneLoader, PolygonsWithFiveAndMoreVerticesAreKeptWhole) {
+  // Regular pentagon and hexagon of circumradius 1 in separate planes.
+  std::ostringstream obj;
+  obj.precision(17);
+  for (int k = 0; k < 5; ++k) {
+    obj << "v " << std::cos(2 * M_PI * k / 5) << ' ' << std::sin(2 * M_PI * k / 5) << " 0\n";
+  }
+  for (int k = 0; k < 6; ++k) {
+    obj << "v " << std::cos(2 * M_PI * k / 6) << ' ' << std::sin(2 * M_PI * k / 6) << " 5\n";
+  }
+  obj << "f 1 2 3 4 5\nf 6 7 8 9 10 11\n";
+  const Scene scene = load_scene(write("ngons", "ngons.obj", obj.str())).scene;
+  ASSERT_EQ(scene.surfaces.size(), 2u);
+  ASSERT_EQ(scene.surfaces[0].polygons.size(), 1u);
+  EXPECT_EQ(scene.surfaces[0].polygons[0], (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(scene.surfaces[1].polygons[0].size(), 6u);
+  EXPECT_NEAR(scene.surfaces[0].area, 2.5 * std::sin(2 * M_PI / 5), 1e-12);
+  EXPECT_NEAR(scene.surfaces[1].area, 3.0 * std::sin(2 * M_PI / 6), 1e-12);
+  EXPECT_NEAR(scene.surfaces[0].normal[2], 1.0, 1e-12);
+  EXPECT_TRUE(scene.surfaces[0].planar);
+}
+
+TEST(SceneLoader, DuplicatedPositionVerticesAreWelded) {
+  // Every triangle of the sphere has its own three vertices, as many
+  // exporters write them; it must still be one surface with shared points.
+  const Scene scene = load_scene(write("welded_sphere", "sphere.obj", icosphere(1, true))).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  EXPECT_EQ(scene.surfaces[0].polygons.size(), 80u);
+  EXPECT_EQ(scene.surfaces[0].points.size(), 42u);  // V = E - F + 2 = 120 - 80 + 2
+
+  // A quad written as two triangles with six distinct vertices.
+  const Scene quad = load_scene(write("welded_quad", "quad.obj",
+                                      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\n"
+                                      "f 1 2 3\nf 4 5 6\n"))
+                         .scene;
+  ASSERT_EQ(quad.surfaces.size(), 1u);
+  EXPECT_EQ(quad.surfaces[0].points.size(), 4u);
+  EXPECT_EQ(quad.surfaces[0].polygons, (std::vector<std::vector<int>>{{0, 1, 2}, {0, 2, 3}}));
+}
+
+TEST(SceneLoader, ZeroAreaFacesAreDroppedAndCounted) {
+  const LoadResult loaded = load_scene(write("zero_area", "sliver.obj",
+                                             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\n"
+                                             "f 1 2 3\n"
+                                             "f 1 2 4\n"));  // collinear
+  EXPECT_EQ(loaded.scene.dropped_zero_area_faces, 1);
+  ASSERT_EQ(loaded.scene.surfaces.size(), 1u);
+  EXPECT_NEAR(loaded.scene.surfaces[0].area, 0.5, 1e-12);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_EQ(loaded.warnings[0], "dropped 1 zero-area faces");
+}
+
+TEST(SceneLoader, NegativeObjIndicesCountBackFromTheLastVertex) {
+  const Scene scene =
+      load_scene(write("negative", "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n")).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  EXPECT_NEAR(scene.surfaces[0].area, 0.5, 1e-12);
+  EXPECT_NEAR(scene.surfaces[0].normal[2], 1.0, 1e-12);
+}
+
+// A unit square in z = 0 split into a left and a right half, 2 triangles each.
+const char* const kSquarePoints = "0 0 0\n0.5 0 0\n1 0 0\n0 1 0\n0.5 1 0\n1 1 0\n";
+const char* const kSquareFaces[] = {"3 0 1 4", "3 0 4 3", "3 1 2 5", "3 1 5 4"};
+
+TEST(SceneLoader, PlyFaceColoursBecomeMaterials) {
+  std::string ply =
+      "ply\nformat ascii 1.0\ncomment two colours\nelement vertex 6\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 4\nproperty list uchar int vertex_indices\nproperty uchar red\n"
+      "property uchar green\nproperty uchar blue\nend_header\n";
+  ply += kSquarePoints;
+  ply += std::string(kSquareFaces[0]) + " 255 0 0\n" + kSquareFaces[1] + " 255 0 0\n";
+  ply += std::string(kSquareFaces[2]) + " 0 51 102\n" + kSquareFaces[3] + " 0 51 102\n";
+  const Scene scene = load_scene(write("ply_colours", "square.ply", ply)).scene;
+  ASSERT_EQ(scene.surfaces.size(), 2u);
+  const Material& red = scene.materials.at(scene.surfaces[0].material);
+  const Material& blue = scene.materials.at(scene.surfaces[1].material);
+  // 255 would be reflectance 1, which the contract forbids.
+  EXPECT_NEAR(red.reflectance[0], 0.99, 1e-12);
+  EXPECT_EQ(red.reflectance[1], 0.0);
+  EXPECT_NEAR(blue.reflectance[1], 0.2, 1e-12);
+  EXPECT_NEAR(blue.reflectance[2], 0.4, 1e-12);
+  EXPECT_FALSE(red.is_emitter());
+  EXPECT_NEAR(scene.surfaces[0].area + scene.surfaces[1].area, 1.0, 1e-6);
+}
+
+TEST(SceneLoader, PlyVertexColoursAreAveragedPerFace) {
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0 0 0 0\n1 0 0 100 0 0\n1 1 0 100 0 0\n0 1 0 0 0 0\n4 0 1 2 3\n";
+  const Scene scene = load_scene(write("ply_vertex_colours", "quad.ply", ply)).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  EXPECT_EQ(scene.surfaces[0].polygons[0].size(), 4u);
+  EXPECT_NEAR(scene.materials.at(scene.surfaces[0].material).reflectance[0], 50.0 / 255.0, 1e-12);
+}
+
+TEST(SceneLoader, BinaryPlyLoads) {
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const float points[9] = {0, 0, 0, 2, 0, 0, 0, 2, 0};
+  ply.append(reinterpret_cast<const char*>(points), sizeof points);
+  ply.push_back(3);
+  const std::int32_t indices[3] = {0, 1, 2};
+  ply.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  const Scene scene = load_scene(write("ply_binary", "tri.ply", ply)).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  EXPECT_NEAR(scene.surfaces[0].area, 2.0, 1e-12);
+  EXPECT_EQ(scene.materials.at(scene.surfaces[0].material).reflectance, Rgb(0.5, 0.5, 0.5));
+}
+
+TEST(SceneLoader, BinaryOffLoads) {
+  std::string off = "OFF BINARY\n";
+  const std::int32_t counts[3] = {4, 1, 0};
+  off.append(reinterpret_cast<const char*>(counts), sizeof counts);
+  const float points[12] = {0, 0, 0, 3, 0, 0, 3, 1, 0, 0, 1, 0};
+  off.append(reinterpret_cast<const char*>(points), sizeof points);
+  const std::int32_t face[5] = {4, 0, 1, 2, 3};
+  off.append(reinterpret_cast<const char*>(face), sizeof face);
+  const Scene scene = load_scene(write("off_binary", "rect.off", off)).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  EXPECT_EQ(scene.surfaces[0].polygons[0].size(), 4u);
+  EXPECT_NEAR(scene.surfaces[0].area, 3.0, 1e-12);
+}
+
+TEST(SceneLoader, OffFaceColoursBecomeMaterials) {
+  std::string off = "OFF\n# a comment\n6 4 0\n";
+  off += kSquarePoints;
+  off += std::string(kSquareFaces[0]) + " 0 255 0\n" + kSquareFaces[1] + " 0 255 0\n";
+  off += std::string(kSquareFaces[2]) + " 0.2 0.4 0.6\n" + kSquareFaces[3] + " 0.2 0.4 0.6\n";
+  const Scene scene = load_scene(write("off_colours", "square.off", off)).scene;
+  ASSERT_EQ(scene.surfaces.size(), 2u);
+  const Material& green = scene.materials.at(scene.surfaces[0].material);
+  const Material& other = scene.materials.at(scene.surfaces[1].material);
+  EXPECT_NEAR(green.reflectance[1], 0.99, 1e-12);
+  EXPECT_EQ(green.reflectance[0], 0.0);
+  EXPECT_NEAR(other.reflectance[0], 51.0 / 255.0, 1e-12);
+  EXPECT_NEAR(other.reflectance[2], 153.0 / 255.0, 1e-12);
+  EXPECT_EQ(scene.surfaces[0].name, "square/rgb_00ff00#0");
+}
+
+TEST(SceneLoader, PlainOffWithoutColoursIsGrey) {
+  std::string off = "OFF\n6 4 0\n";
+  off += kSquarePoints;
+  for (const char* f : kSquareFaces) off += std::string(f) + "\n";
+  const Scene scene = load_scene(write("off_plain", "square.off", off)).scene;
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  EXPECT_NEAR(scene.surfaces[0].area, 1.0, 1e-6);
+  EXPECT_EQ(scene.materials.at(scene.surfaces[0].material).reflectance, Rgb(0.5, 0.5, 0.5));
+}
+
+TEST(SurfaceSplit, InconsistentlyOrientedNeighboursAreSeparate) {
+  // Two coplanar triangles sharing an edge, the second one flipped: their
+  // front sides differ by 180°, so they cannot share radiance.
+  PolygonSoup soup;
+  soup.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  soup.materials = {Material{}};
+  soup.groups = {"g"};
+  soup.faces = {{{0, 1, 2}, 0, 0, 1}, {{0, 3, 2}, 0, 0, 2}};
+  const SurfaceSplit split = split_into_surfaces(soup, 30.0);
+  ASSERT_EQ(split.surfaces.size(), 2u);
+  EXPECT_NEAR(split.surfaces[0].normal[2], 1.0, 1e-12);
+  EXPECT_NEAR(split.surfaces[1].normal[2], -1.0, 1e-12);
+  EXPECT_EQ(split_into_surfaces(soup, 180.0).surfaces.size(), 1u);
+}
+
+TEST(SurfaceSplit, SlightlyBentSurfaceIsNotPlanar) {
+  // Two triangles folded by 2° along their shared edge: one surface at the
+  // default crease angle, but not planar.
+  const double bend = 2.0 * M_PI / 180.0;
+  PolygonSoup soup;
+  soup.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-std::cos(bend), 0, std::sin(bend)}};
+  soup.materials = {Material{}};
+  soup.groups = {"g"};
+  soup.faces = {{{0, 1, 2}, 0, 0, 1}, {{0, 2, 3}, 0, 0, 2}};
+  const SurfaceSplit split = split_into_surfaces(soup, 30.0);
+  ASSERT_EQ(split.surfaces.size(), 1u);
+  EXPECT_FALSE(split.surfaces[0].planar);
+  EXPECT_EQ(split_into_surfaces(soup, 1.0).surfaces.size(), 2u);
+}
+
+}  // namespace
+}  // namespace lhr

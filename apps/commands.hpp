@@ -17,5 +17,6 @@ using Args = std::vector<std::string>;  // arguments after the subcommand name
 int run_mesh(const Args& args);
 int run_validate(const Args& args);
 int run_scene(const Args& args);
+int run_solve(const Args& args);
 
 }  // namespace lhr::app

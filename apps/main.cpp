@@ -16,6 +16,7 @@ struct Command {
 };
 
 constexpr Command kCommands[] = {
+    {"solve", lhr::app::run_solve, "compute the lit, refined mesh and a view of it"},
     {"mesh", lhr::app::run_mesh, "mesh a scene to a minimum density and write the initial mesh"},
     {"validate", lhr::app::run_validate, "check a PLY/OFF mesh: manifold, oriented, crack-free"},
     {"scene", lhr::app::run_scene, "write one of the paper's generated test scenes"},

@@ -21,20 +21,11 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// At most this many root triangles stand for a whole surface when a surface-
-// level link's coefficient is estimated (Hanrahan's input-polygon links are
-// estimates too; any link that carries energy is refined below that level).
+// At most this many root centres stand for a cluster in a link's visibility
+// estimate (its form factor is exact over all its triangles).
 constexpr std::size_t kSurfaceSamples = 16;
 // Refinement passes per iteration: each pass goes one level deeper.
 constexpr int kMaxRefinePasses = 40;
-
-std::vector<NodeId> strided_roots(const SurfaceHierarchy& h, std::size_t count) {
-  std::vector<NodeId> out;
-  const std::size_t n = h.num_roots();
-  const std::size_t step = std::max<std::size_t>(1, n / count);
-  for (std::size_t i = step / 2; i < n && out.size() < count; i += step) out.push_back(static_cast<NodeId>(i));
-  return out;
-}
 
 // Whether a planar surface has a point strictly in front of the other's plane.
 bool some_point_in_front(const Surface& a, const Surface& b, double eps) {
@@ -54,7 +45,53 @@ ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& opti
   }
   const double min_edge = options_.min_edge > 0 ? options_.min_edge : model_.max_edge() / 32.0;
   min_area_ = std::sqrt(3.0) / 4.0 * min_edge * min_edge;
-  for (int s = 0; s < model_.num_surfaces(); ++s) sync_node_arrays(s);
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    sync_node_arrays(s);
+    build_clusters(s);
+  }
+}
+
+void ClassicalSolver::build_clusters(int s) {
+  // Median splits of the root centroids along the longest extent: a balanced
+  // tree whose clusters are spatially compact, so a far cluster is a fair
+  // stand-in for its triangles in the BF test.
+  constexpr std::size_t kLeafClusterRoots = 4;
+  std::vector<RootCluster>& clusters = surfaces_[s].clusters;
+  clusters.clear();
+  RootCluster top;
+  for (std::size_t f = 0; f < model_.hierarchy(s).num_roots(); ++f) top.roots.push_back(static_cast<NodeId>(f));
+  clusters.push_back(std::move(top));
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300), centroid(0, 0, 0), normal(0, 0, 0);
+    double area = 0.0;
+    for (NodeId r : clusters[c].roots) {
+      const double a = model_.area(s, r);
+      const Vec3 p = model_.centroid(s, r);
+      lo.minimize(p);
+      hi.maximize(p);
+      centroid += a * p;
+      normal += a * model_.normal(s, r);
+      area += a;
+    }
+    clusters[c].area = area;
+    clusters[c].centroid = area > 0 ? centroid / area : centroid;
+    clusters[c].normal = normal.norm() > 0 ? normal.normalized() : normal;
+    if (clusters[c].roots.size() <= kLeafClusterRoots) continue;
+    const Vec3 extent = hi - lo;
+    const int axis = extent[0] >= extent[1] && extent[0] >= extent[2] ? 0 : (extent[1] >= extent[2] ? 1 : 2);
+    std::vector<NodeId> roots = clusters[c].roots;
+    const auto middle = roots.begin() + static_cast<std::ptrdiff_t>(roots.size() / 2);
+    std::nth_element(roots.begin(), middle, roots.end(), [&](NodeId a, NodeId b) {
+      const double ka = model_.centroid(s, a)[axis], kb = model_.centroid(s, b)[axis];
+      return ka < kb || (ka == kb && a < b);
+    });
+    RootCluster left, right;
+    left.roots.assign(roots.begin(), middle);
+    right.roots.assign(middle, roots.end());
+    clusters[c].first_child = static_cast<std::int32_t>(clusters.size());
+    clusters.push_back(std::move(left));
+    clusters.push_back(std::move(right));
+  }
 }
 
 void ClassicalSolver::sync_node_arrays(int s) {
@@ -75,12 +112,11 @@ void ClassicalSolver::sync_node_arrays(int s) {
 }
 
 const Rgb& ClassicalSolver::element_radiance(const Element& e) const {
-  const SurfaceState& st = surfaces_[e.surface];
-  return e.node == kSurfaceElement ? st.surface_radiance : st.radiance[e.node];
+  return is_cluster(e) ? cluster(e).radiance : surfaces_[e.surface].radiance[e.node];
 }
 
 double ClassicalSolver::element_area(const Element& e) const {
-  return e.node == kSurfaceElement ? model_.surface_area(e.surface) : model_.area(e.surface, e.node);
+  return is_cluster(e) ? cluster(e).area : model_.area(e.surface, e.node);
 }
 
 std::vector<ClassicalSolver::Link>& ClassicalSolver::links_of(const Element& e) {
@@ -121,60 +157,42 @@ void ClassicalSolver::link_surfaces() {
 }
 
 float ClassicalSolver::coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const {
-  // Points where the receiver's form factor is evaluated, and the shooter's
-  // triangles it is evaluated against (exact, Lambert).
+  // Receivers are always quadtree nodes (links live on leaves): the form
+  // factor is evaluated exactly (Lambert) at the receiver's centre against
+  // every triangle of the shooter, visibility is the clear fraction of paired
+  // receiver/shooter samples.
   struct Point {
     Vec3 p, n;
   };
-  std::vector<Point> ff_points;
-  std::vector<Point> receiver_vis, shooter_vis;
-  std::vector<std::array<Vec3, 3>> shooter_triangles;
-
   const auto element_key = [](const Element& e) {
     return (static_cast<std::uint64_t>(e.surface) << 32) | static_cast<std::uint32_t>(e.node + 2);
   };
   const std::uint64_t key = sample_key(element_key(receiver), element_key(shooter));
   const int k = std::max(1, options_.visibility_samples);
 
-  const auto add_samples = [&](const Element& e, std::vector<Point>& out, std::uint64_t salt) {
-    if (e.node == kSurfaceElement) {
-      for (NodeId root : strided_roots(model_.hierarchy(e.surface), kSurfaceSamples)) {
-        out.push_back({model_.centroid(e.surface, root), model_.normal(e.surface, root)});
-      }
-    } else {
-      const auto tri = model_.triangle(e.surface, e.node);
-      const Vec3 n = model_.normal(e.surface, e.node);
-      for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, salt))) {
-        out.push_back({at(tri, ts), n});
-      }
-    }
-  };
-
-  if (receiver.node == kSurfaceElement) {
-    for (NodeId root : strided_roots(model_.hierarchy(receiver.surface), kSurfaceSamples)) {
-      ff_points.push_back({model_.centroid(receiver.surface, root), model_.normal(receiver.surface, root)});
-    }
-  } else {
-    ff_points.push_back({model_.centroid(receiver.surface, receiver.node), model_.normal(receiver.surface, receiver.node)});
-  }
-  if (shooter.node == kSurfaceElement) {
-    const SurfaceHierarchy& h = model_.hierarchy(shooter.surface);
-    for (std::size_t f = 0; f < h.num_roots(); ++f) {
-      shooter_triangles.push_back(model_.triangle(shooter.surface, static_cast<NodeId>(f)));
-    }
-  } else {
-    shooter_triangles.push_back(model_.triangle(shooter.surface, shooter.node));
-  }
-
+  const Vec3 x = model_.centroid(receiver.surface, receiver.node);
+  const Vec3 nx = model_.normal(receiver.surface, receiver.node);
   double ff = 0.0;
-  for (const Point& x : ff_points) {
-    for (const auto& tri : shooter_triangles) ff += point_triangle_form_factor(x.p, x.n, tri);
+  std::vector<Point> shooter_vis;
+  if (is_cluster(shooter)) {
+    const RootCluster& c = cluster(shooter);
+    for (NodeId r : c.roots) ff += point_triangle_form_factor(x, nx, model_.triangle(shooter.surface, r));
+    const std::size_t step = std::max<std::size_t>(1, c.roots.size() / kSurfaceSamples);
+    for (std::size_t i = step / 2; i < c.roots.size() && shooter_vis.size() < kSurfaceSamples; i += step) {
+      shooter_vis.push_back({model_.centroid(shooter.surface, c.roots[i]), model_.normal(shooter.surface, c.roots[i])});
+    }
+  } else {
+    const auto tri = model_.triangle(shooter.surface, shooter.node);
+    ff = point_triangle_form_factor(x, nx, tri);
+    const Vec3 n = model_.normal(shooter.surface, shooter.node);
+    for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, 2))) shooter_vis.push_back({at(tri, ts), n});
   }
-  ff /= static_cast<double>(ff_points.size());
   if (!(ff > 0.0)) return 0.0f;
 
-  add_samples(receiver, receiver_vis, 1);
-  add_samples(shooter, shooter_vis, 2);
+  std::vector<Point> receiver_vis;
+  const auto tri = model_.triangle(receiver.surface, receiver.node);
+  for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, 1))) receiver_vis.push_back({at(tri, ts), nx});
+
   const std::size_t pairs = std::max(receiver_vis.size(), shooter_vis.size());
   const RayScene& scene = model_.rays();
   std::vector<ShadowRay> segments;
@@ -207,18 +225,18 @@ void ClassicalSolver::compute_coefficients(std::vector<PendingLink>& pending) {
 }
 
 double ClassicalSolver::estimate_form_factor(const Element& receiver, const Element& shooter) const {
-  if (receiver.node == kSurfaceElement || shooter.node == kSurfaceElement) return 1.0;
   // Hanrahan's oracle: the form factor of a disc of the shooter's area seen
   // from the receiver's centre, A cosθi cosθj / (π r² + A).
   const Vec3 ci = model_.centroid(receiver.surface, receiver.node);
-  const Vec3 cj = model_.centroid(shooter.surface, shooter.node);
+  const Vec3 cj = is_cluster(shooter) ? cluster(shooter).centroid : model_.centroid(shooter.surface, shooter.node);
   const Vec3 d = cj - ci;
   const double r2 = d.sqrnorm();
   const double r = std::sqrt(r2);
   if (!(r > 0)) return 1.0;
   const double cos_i = std::max(0.0, OpenMesh::dot(model_.normal(receiver.surface, receiver.node), d) / r);
-  const double cos_j = std::max(0.0, -OpenMesh::dot(model_.normal(shooter.surface, shooter.node), d) / r);
-  const double a = model_.area(shooter.surface, shooter.node);
+  const Vec3 nj = is_cluster(shooter) ? cluster(shooter).normal : model_.normal(shooter.surface, shooter.node);
+  const double cos_j = std::max(0.0, -OpenMesh::dot(nj, d) / r);
+  const double a = element_area(shooter);
   // Near-contact elements (one's centre at the other's horizon) keep a
   // bound that does not vanish: use the unclipped cosines' magnitudes.
   const double bound = a / (M_PI * r2 + a);
@@ -234,7 +252,7 @@ bool ClassicalSolver::refine_links() {
   bool changed = false;
 
   const auto splittable = [&](const Element& e) {
-    return e.node == kSurfaceElement || model_.area(e.surface, e.node) > 4.0 * min_area_;
+    return is_cluster(e) || model_.area(e.surface, e.node) > 4.0 * min_area_;
   };
   const auto split_node = [&](const Element& e) {
     SurfaceHierarchy& h = model_.hierarchy(e.surface);
@@ -245,9 +263,14 @@ bool ClassicalSolver::refine_links() {
   };
   const auto children_of = [&](const Element& e) {
     std::vector<Element> out;
-    if (e.node == kSurfaceElement) {
-      const SurfaceHierarchy& h = model_.hierarchy(e.surface);
-      for (std::size_t f = 0; f < h.num_roots(); ++f) out.push_back({e.surface, static_cast<NodeId>(f)});
+    if (is_cluster(e)) {
+      const RootCluster& c = cluster(e);
+      if (c.first_child >= 0) {
+        out.push_back({e.surface, -(c.first_child + 2)});
+        out.push_back({e.surface, -(c.first_child + 1 + 2)});
+      } else {
+        for (NodeId r : c.roots) out.push_back({e.surface, r});
+      }
       return out;
     }
     split_node(e);
@@ -288,8 +311,9 @@ bool ClassicalSolver::refine_links() {
           push_down = true;
           kept.push_back(link);
         } else {
-          for (const Element& child : children_of(link.shooter)) local.push_back({receiver, child, 0.0f});
-          links_now += 3;
+          const std::vector<Element> children = children_of(link.shooter);
+          for (const Element& child : children) local.push_back({receiver, child, 0.0f});
+          links_now += children.size() - 1;
         }
       }
       if (push_down) {
@@ -357,12 +381,12 @@ double ClassicalSolver::push_pull() {
       st.radiance[n] = value;
       return value;
     };
-    Rgb weighted(0, 0, 0);
-    for (std::size_t f = 0; f < h.num_roots(); ++f) {
-      const NodeId root = static_cast<NodeId>(f);
-      weighted += model_.area(s, root) * visit(visit, root, Rgb(0, 0, 0));
+    for (std::size_t f = 0; f < h.num_roots(); ++f) visit(visit, static_cast<NodeId>(f), Rgb(0, 0, 0));
+    for (RootCluster& c : st.clusters) {
+      Rgb weighted(0, 0, 0);
+      for (NodeId r : c.roots) weighted += model_.area(s, r) * st.radiance[r];
+      c.radiance = weighted / std::max(c.area, 1e-300);
     }
-    st.surface_radiance = weighted / std::max(model_.surface_area(s), 1e-300);
   });
   stats_.seconds_push_pull += seconds_since(start);
   return *std::max_element(change.begin(), change.end());

@@ -3,9 +3,10 @@
 // constant-element baseline the paper's method is charted against (DESIGN §4
 // "Classical HR baseline").
 //
-// Elements are the quadtree nodes of every surface, plus one virtual element
-// per surface above its roots (the input polygon of Hanrahan's method), so
-// the first links are surface to surface, not initial triangle to triangle.
+// Elements are the quadtree nodes of every surface and, above its roots, a
+// binary tree of root clusters whose top is the whole surface (the input
+// polygon of Hanrahan's method): shooters start as whole surfaces and open
+// up only as far as the BF test asks.
 // Radiance, not radiosity, is carried: L = Le + ρ Σ F L (B = πL, same form).
 
 #include <cstddef>
@@ -68,10 +69,20 @@ class ClassicalSolver {
   double row_sum(int s, NodeId n) const;
 
  private:
+  // Element::node ≥ 0 is a quadtree node; node ≤ -2 is root cluster −(node+2),
+  // cluster 0 (kSurfaceElement) being the whole surface.
   static constexpr NodeId kSurfaceElement = -2;
   struct Element {
     std::int32_t surface;
-    NodeId node;  // kSurfaceElement: the whole surface
+    NodeId node;
+  };
+  struct RootCluster {
+    std::vector<NodeId> roots;
+    std::int32_t first_child = -1;  // two consecutive child clusters, or -1: children are the roots
+    double area = 0.0;
+    Vec3 centroid{0, 0, 0};
+    Vec3 normal{0, 0, 0};  // unit mean normal
+    Rgb radiance{0, 0, 0};
   };
   struct Link {
     Element shooter;
@@ -82,7 +93,7 @@ class ClassicalSolver {
     std::vector<Rgb> radiance;  // per node
     std::vector<Rgb> gathered;  // per node
     std::vector<std::vector<Link>> links;  // per node: links this node receives
-    Rgb surface_radiance{0, 0, 0};  // area-weighted mean, for surface-level shooters
+    std::vector<RootCluster> clusters;  // [0] = the whole surface
   };
   struct PendingLink {
     Element receiver;
@@ -99,6 +110,9 @@ class ClassicalSolver {
   void gather();
   double push_pull();
   void sync_node_arrays(int s);
+  void build_clusters(int s);
+  static bool is_cluster(const Element& e) { return e.node <= kSurfaceElement; }
+  const RootCluster& cluster(const Element& e) const { return surfaces_[e.surface].clusters[-(e.node + 2)]; }
   const Rgb& element_radiance(const Element& e) const;
   double element_area(const Element& e) const;
   std::vector<Link>& links_of(const Element& e);

@@ -1,0 +1,215 @@
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include <tbb/global_control.h>
+
+#include "apps/commands.hpp"
+#include "apps/options.hpp"
+#include "io/image_io.hpp"
+#include "io/json_file.hpp"
+#include "io/mesh_io.hpp"
+#include "io/scene_loader.hpp"
+#include "radiosity/classical_solver.hpp"
+#include "radiosity/scene_model.hpp"
+#include "render/solution_view.hpp"
+
+namespace lhr::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+}
+
+}  // namespace
+
+int run_solve(const Args& args) {
+  po::options_description visible("options");
+  visible.add_options()("help,h", "show this help")
+      ("out,o", po::value<std::string>()->required(),
+       "output directory (created if missing): mesh.ply, mesh.off, image.png, image.exr, stats.json")
+      ("method", po::value<std::string>()->default_value("classical"),
+       "solver: classical (Hanrahan et al. 1991, constant elements); the paper's linear method is not yet "
+       "available")
+      ("max-edge", po::value<double>(),
+       "h: longest edge of the initial mesh (default: the scene file's, else 1/20 of the bounding-box diagonal)")
+      ("eps-bf", po::value<double>()->default_value(ClassicalOptions{}.eps_bf),
+       "classical: refine a link while shooter radiance x form factor exceeds this fraction of the brightest "
+       "emitted radiance")
+      ("min-edge", po::value<double>(), "smallest element edge (default h/32)")
+      ("max-iterations", po::value<int>()->default_value(ClassicalOptions{}.max_iterations), "iteration limit")
+      ("tolerance", po::value<double>()->default_value(ClassicalOptions{}.tolerance),
+       "stop when no leaf changes by more than this fraction of the brightest emitted radiance")
+      ("max-links", po::value<std::size_t>()->default_value(0), "stop refining at this many links (0: no limit)")
+      ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
+       "k: k^2 shadow rays per link")
+      ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
+       "tumblin-rushmeier (paper ref. 18) or linear")
+      ("adaptation", po::value<double>()->default_value(0.0),
+       "world adaptation luminance for tumblin-rushmeier, scene units (0: log-average the camera sees)")
+      ("units-to-cd", po::value<double>()->default_value(1.0), "cd/m^2 per scene radiance unit")
+      ("white", po::value<double>()->default_value(0.0), "linear tone map: luminance shown as white (0: brightest seen)")
+      ("threads", po::value<int>()->default_value(0), "worker threads (0: all cores); results do not depend on it")
+      ("quiet,q", "print nothing but errors")
+      ("verbose,v", "print every iteration");
+  po::options_description hidden;
+  hidden.add_options()("scene", po::value<std::string>()->required(), "scene file");
+  po::positional_options_description positional;
+  positional.add("scene", 1);
+  po::variables_map vm;
+  if (!parse_command_line(args,
+                          "usage: lhr solve SCENE --out DIR [options]\n\n"
+                          "Computes diffuse global illumination for SCENE (.scene.json, .obj, .ply, .off)\n"
+                          "and writes the lit, refined mesh, a Gouraud view from the scene camera and the\n"
+                          "solver's statistics.",
+                          visible, hidden, positional, vm)) {
+    return kExitOk;
+  }
+  const bool quiet = vm.count("quiet") > 0;
+  const bool verbose = vm.count("verbose") > 0 && !quiet;
+  const bool progress = !quiet && ::isatty(STDERR_FILENO);
+  if (vm["method"].as<std::string>() != "classical") {
+    throw po::error("--method: only 'classical' is available in this version");
+  }
+  const std::string tone_name = vm["tone-map"].as<std::string>();
+  if (tone_name != "tumblin-rushmeier" && tone_name != "linear") {
+    throw po::error("--tone-map must be tumblin-rushmeier or linear");
+  }
+  const int threads = vm["threads"].as<int>();
+  if (threads < 0) throw po::error("--threads must be 0 or positive");
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism,
+                                   threads > 0 ? static_cast<std::size_t>(threads)
+                                               : tbb::global_control::active_value(
+                                                     tbb::global_control::max_allowed_parallelism));
+
+  const std::filesystem::path out_dir = vm["out"].as<std::string>();
+  const auto t_start = Clock::now();
+  const LoadResult loaded = load_scene(vm["scene"].as<std::string>());
+  if (!quiet) {
+    for (const std::string& w : loaded.warnings) std::cerr << "lhr solve: warning: " << w << "\n";
+  }
+  const Scene& scene = loaded.scene;
+  const Camera camera = scene.camera.value_or(framing_camera(scene));
+
+  MeshingOptions meshing;
+  meshing.max_edge = vm.count("max-edge") ? vm["max-edge"].as<double>()
+                                          : scene.settings.max_edge.value_or(default_max_edge(scene));
+  if (!(meshing.max_edge > 0) || !std::isfinite(meshing.max_edge)) throw po::error("--max-edge must be positive");
+  ClassicalOptions options;
+  options.eps_bf = vm["eps-bf"].as<double>();
+  if (vm.count("min-edge")) options.min_edge = vm["min-edge"].as<double>();
+  options.max_iterations = vm["max-iterations"].as<int>();
+  options.tolerance = vm["tolerance"].as<double>();
+  options.max_links = vm["max-links"].as<std::size_t>();
+  options.visibility_samples = vm["visibility-samples"].as<int>();
+  if (!(options.eps_bf > 0)) throw po::error("--eps-bf must be positive");
+  if (options.max_iterations < 1) throw po::error("--max-iterations must be at least 1");
+  if (options.visibility_samples < 1) throw po::error("--visibility-samples must be at least 1");
+
+  // Refuse an unusable output directory before the work, not after.
+  std::filesystem::create_directories(out_dir);
+
+  bool any_emitter = false;
+  for (const Material& m : scene.materials) any_emitter |= m.is_emitter();
+  if (!any_emitter && !quiet) std::cerr << "lhr solve: warning: the scene has no emitter; the result is black\n";
+
+  const auto t_mesh = Clock::now();
+  SceneModel model(scene, meshing);
+  const double seconds_meshing = seconds_since(t_mesh);
+  ClassicalSolver solver(model, options);
+  const auto t_solve = Clock::now();
+  solver.solve([&](int iteration, double change) {
+    if (verbose) {
+      std::cerr << "iteration " << iteration << ": largest change " << change << "\n";
+    } else if (progress) {
+      std::cerr << "\riteration " << iteration << ": largest change " << change << "   " << std::flush;
+    }
+  });
+  if (progress && !verbose) std::cerr << "\n";
+  const double seconds_solve = seconds_since(t_solve);
+  const ClassicalStats& stats = solver.stats();
+  if (stats.link_budget_reached && !quiet) {
+    std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
+  }
+
+  const auto t_output = Clock::now();
+  std::vector<SurfaceSolution> surfaces(model.num_surfaces());
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
+    surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
+  }
+  ToneMapChoice tone;
+  tone.kind = tone_name == "linear" ? ToneMapChoice::Kind::kLinear : ToneMapChoice::Kind::kTumblinRushmeier;
+  tone.world_adaptation = vm["adaptation"].as<double>();
+  tone.units_to_cd_m2 = vm["units-to-cd"].as<double>();
+  tone.linear_white = vm["white"].as<double>();
+  const SolutionView view = make_solution_view(surfaces, camera, tone);
+  write_mesh(out_dir / "mesh.ply", view.export_mesh);
+  write_mesh(out_dir / "mesh.off", view.export_mesh);
+  write_image(out_dir / "image.exr", view.radiance_image);
+  write_image(out_dir / "image.png", view.display_image);
+  const double seconds_output = seconds_since(t_output);
+
+  nlohmann::json doc;
+  doc["scene"] = scene.source;
+  doc["method"] = "classical";
+  doc["parameters"] = {{"max_edge", meshing.max_edge},
+                       {"min_angle_deg", meshing.min_angle_deg},
+                       {"eps_bf", options.eps_bf},
+                       {"min_edge", options.min_edge > 0 ? options.min_edge : meshing.max_edge / 32.0},
+                       {"max_iterations", options.max_iterations},
+                       {"tolerance", options.tolerance},
+                       {"max_links", options.max_links},
+                       {"visibility_samples", options.visibility_samples},
+                       {"tone_map", view.tone_map->describe()},
+                       {"camera",
+                        {{"eye", {camera.eye[0], camera.eye[1], camera.eye[2]}},
+                         {"target", {camera.target[0], camera.target[1], camera.target[2]}},
+                         {"up", {camera.up[0], camera.up[1], camera.up[2]}},
+                         {"fov_y_deg", camera.fov_y_deg},
+                         {"width", camera.width},
+                         {"height", camera.height}}}};
+  doc["surfaces"] = model.num_surfaces();
+  doc["elements"] = stats.leaves;
+  doc["nodes"] = stats.nodes;
+  doc["links"] = stats.links;
+  doc["iterations"] = stats.iterations;
+  doc["final_change"] = stats.final_change;
+  doc["shadow_rays"] = stats.shadow_rays;
+  doc["link_budget_reached"] = stats.link_budget_reached;
+  doc["exported_vertices"] = view.export_mesh.points.size();
+  doc["exported_triangles"] = view.export_mesh.triangles.size();
+  doc["world_adaptation"] = view.world_adaptation;
+  // Timings and memory vary from run to run; everything above does not.
+  doc["seconds"] = {{"meshing", seconds_meshing},
+                    {"refine", stats.seconds_refine},
+                    {"coefficients", stats.seconds_coefficients},
+                    {"gather", stats.seconds_gather},
+                    {"push_pull", stats.seconds_push_pull},
+                    {"solve", seconds_solve},
+                    {"output", seconds_output},
+                    {"total", seconds_since(t_start)}};
+  doc["peak_memory_mib"] = peak_rss_mib();
+  write_json_file(out_dir / "stats.json", doc);
+
+  if (!quiet) {
+    std::cerr << "lhr solve: " << model.num_surfaces() << " surfaces, " << stats.leaves << " elements, "
+              << stats.links << " links, " << stats.iterations << " iterations, " << seconds_since(t_start)
+              << " s -> " << out_dir.string() << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace lhr::app

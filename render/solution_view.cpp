@@ -1,0 +1,77 @@
+#include "render/solution_view.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/gouraud.hpp"
+
+namespace lhr {
+
+double log_average_luminance(const Image& radiance, const std::vector<std::uint8_t>& mask) {
+  // δ keeps black pixels from sending the mean to −∞ (Reinhard et al. 2002).
+  constexpr double kDelta = 1e-6;
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    const float* p = &radiance.rgb[3 * i];
+    sum += std::log(kDelta + luminance(Rgb(p[0], p[1], p[2])));
+    ++count;
+  }
+  return count ? std::exp(sum / static_cast<double>(count)) : 0.0;
+}
+
+SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, const Camera& camera,
+                                const ToneMapChoice& tone) {
+  SolutionView view;
+  std::vector<const TriMesh*> meshes;
+  std::vector<const std::vector<Rgb>*> radiance_sets;
+  for (const SurfaceSolution& s : surfaces) {
+    meshes.push_back(&s.mesh.mesh);
+    radiance_sets.push_back(&s.radiance);
+  }
+  const PixelHits hits = trace_pixels(camera, meshes);
+  view.hit_mask = hits.mask();
+  view.radiance_image = shade_gouraud(hits, meshes, radiance_sets);
+
+  if (tone.kind == ToneMapChoice::Kind::kLinear) {
+    double white = tone.linear_white;
+    if (!(white > 0)) {
+      for (std::size_t i = 0; i < view.hit_mask.size(); ++i) {
+        if (!view.hit_mask[i]) continue;
+        const float* p = &view.radiance_image.rgb[3 * i];
+        white = std::max(white, luminance(Rgb(p[0], p[1], p[2])));
+      }
+    }
+    view.tone_map = std::make_unique<LinearToneMap>(white > 0 ? white : 1.0, tone.gamma);
+  } else {
+    TumblinRushmeierParams p;
+    p.world_adaptation = tone.world_adaptation > 0 ? tone.world_adaptation
+                                                   : log_average_luminance(view.radiance_image, view.hit_mask);
+    if (!(p.world_adaptation > 0)) p.world_adaptation = 1.0;  // a black view: any adaptation shows black
+    p.units_to_cd_m2 = tone.units_to_cd_m2;
+    p.display_max_cd_m2 = tone.display_max_cd_m2;
+    p.max_contrast = tone.max_contrast;
+    p.gamma = tone.gamma;
+    view.world_adaptation = p.world_adaptation;
+    view.tone_map = std::make_unique<TumblinRushmeierToneMap>(p);
+  }
+
+  std::vector<std::vector<Rgb>> display(surfaces.size());
+  std::vector<const std::vector<Rgb>*> display_sets;
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    display[s].reserve(surfaces[s].radiance.size());
+    for (const Rgb& r : surfaces[s].radiance) display[s].push_back(view.tone_map->display_rgb(r));
+    display_sets.push_back(&display[s]);
+    const std::size_t first = view.export_mesh.points.size();
+    append_to_export(view.export_mesh, surfaces[s].mesh.mesh, surfaces[s].radiance);
+    view.export_mesh.colours.resize(view.export_mesh.points.size());
+    for (std::size_t v = 0; v < surfaces[s].radiance.size(); ++v) {
+      view.export_mesh.colours[first + v] = view.tone_map->display_bytes(surfaces[s].radiance[v]);
+    }
+  }
+  view.display_image = shade_gouraud(hits, meshes, display_sets);
+  return view;
+}
+
+}  // namespace lhr

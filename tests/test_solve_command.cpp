@@ -1,0 +1,85 @@
+// `lhr solve` end to end: the five outputs, their contracts, and results that
+// do not depend on the thread count.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "io/image_io.hpp"
+#include "io/mesh_io.hpp"
+#include "mesh/validate.hpp"
+#include "test_support.hpp"
+
+namespace lhr {
+namespace {
+
+// A quick Cornell box: coarse initial mesh, coarse ε_BF.
+std::vector<std::string> quick_cornell(const std::string& out, int threads) {
+  return {"solve", (test::source_dir() / "data/cornell/cornell.scene.json").string(), "--out", out,
+          "--max-edge", "140", "--eps-bf", "0.02", "--threads", std::to_string(threads), "--quiet"};
+}
+
+nlohmann::json without_timings(nlohmann::json stats) {
+  stats.erase("seconds");
+  stats.erase("peak_memory_mib");
+  return stats;
+}
+
+TEST(SolveCommand, WritesTheFiveOutputsWithTheirContracts) {
+  const auto dir = test::fresh_dir("solve_outputs");
+  const auto r = test::run_lhr(quick_cornell((dir / "c").string(), 0));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"mesh.ply", "mesh.off", "image.png", "image.exr", "stats.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "c" / name)) << name;
+  }
+  // The exported mesh is conforming and carries finite, non-negative radiance.
+  const RawMesh mesh = read_raw_mesh(dir / "c" / "mesh.ply");
+  ASSERT_EQ(mesh.radiance.size(), mesh.points.size());
+  ConformingCheckOptions check;
+  check.relative_tolerance = 1e-6;  // coordinates went through float storage
+  const auto violations = check_conforming_mesh(mesh, check);
+  EXPECT_TRUE(violations.empty()) << (violations.empty() ? "" : format_violation(violations.front()));
+  const std::string header = test::read_text(dir / "c" / "mesh.ply").substr(0, 400);
+  for (const char* property : {"property uchar red", "property uchar green", "property uchar blue",
+                               "property float radiance_r", "property float radiance_g", "property float radiance_b"}) {
+    EXPECT_NE(header.find(property), std::string::npos) << property;
+  }
+  // The light is seen: the brightest pixel is the light's radiance (Ke 17 12 4)
+  // plus the little it reflects (Kd 0.78 of the dim room around it).
+  const Image exr = read_image(dir / "c" / "image.exr");
+  float brightest = 0;
+  for (float v : exr.rgb) brightest = std::max(brightest, v);
+  EXPECT_GE(brightest, 17.0f - 0.02f);
+  EXPECT_LT(brightest, 17.5f);
+  const auto stats = nlohmann::json::parse(test::read_text(dir / "c" / "stats.json"));
+  EXPECT_EQ(stats["method"], "classical");
+  EXPECT_GT(stats["links"].get<long>(), 0);
+  EXPECT_EQ(stats["exported_triangles"].get<std::size_t>(), mesh.faces.size());
+}
+
+TEST(SolveCommand, ThreadCountDoesNotChangeTheResult) {
+  const auto dir = test::fresh_dir("solve_threads");
+  const auto one = test::run_lhr(quick_cornell((dir / "t1").string(), 1));
+  const auto two = test::run_lhr(quick_cornell((dir / "t2").string(), 2));
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_EQ(without_timings(nlohmann::json::parse(test::read_text(dir / "t1" / "stats.json"))),
+            without_timings(nlohmann::json::parse(test::read_text(dir / "t2" / "stats.json"))));
+  // Pixels bit for bit (the EXR header carries a capture date).
+  EXPECT_TRUE(read_image(dir / "t1" / "image.exr").rgb == read_image(dir / "t2" / "image.exr").rgb);
+  EXPECT_TRUE(test::read_text(dir / "t1" / "mesh.ply") == test::read_text(dir / "t2" / "mesh.ply"));
+  EXPECT_TRUE(test::read_text(dir / "t1" / "image.png") == test::read_text(dir / "t2" / "image.png"));
+}
+
+TEST(SolveCommand, BadInputFailsInOneLineAndWritesNothing) {
+  const auto dir = test::fresh_dir("solve_bad");
+  test::write_text(dir / "broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+  const auto r = test::run_lhr({"solve", (dir / "broken.obj").string(), "--out", (dir / "out").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("broken.obj"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "mesh.ply"));
+}
+
+}  // namespace
+}  // namespace lhr

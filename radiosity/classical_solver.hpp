@@ -58,6 +58,9 @@ class ClassicalSolver {
 
   // Radiance of a leaf (or any node) of surface s.
   const Rgb& radiance(int s, NodeId n) const { return surfaces_[s].radiance[n]; }
+  // Σ F·L over the links node n receives (links live on leaves): the
+  // irradiance of a leaf divided by π, before reflection.
+  const Rgb& gathered(int s, NodeId n) const { return surfaces_[s].gathered[n]; }
   // Per vertex of a conforming mesh of surface s: area-weighted average of
   // the leaves around it (constant elements have no vertex values of their own).
   std::vector<Rgb> vertex_radiance(int s, const ConformingMesh& mesh) const;

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/union_find.hpp"
+
 namespace lhr {
 
 namespace {
@@ -21,29 +23,6 @@ constexpr double kZeroAreaRelative = 1e-12;
 // A surface is planar when every point lies within this fraction of its
 // extent from the best-fit plane; planar surfaces get the 2D mesher (DESIGN §4).
 constexpr double kPlanarRelative = 1e-6;
-
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return;
-    // The smaller root wins so a component's root is its first face.
-    if (b < a) std::swap(a, b);
-    parent_[b] = a;
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 // Twice the vector area of a polygon (Newell's method). Summing cross
 // products about the first point keeps it accurate far from the origin.

@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/union_find.hpp"
+
 namespace lhr {
 
 namespace {
@@ -60,28 +62,6 @@ class Report {
   }
 
   std::vector<Entry> entries_;  // in order of first occurrence, so reports group by kind
-};
-
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-
-  int find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
 };
 
 bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }

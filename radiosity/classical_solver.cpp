@@ -159,8 +159,8 @@ void ClassicalSolver::link_surfaces() {
 float ClassicalSolver::coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const {
   // Receivers are always quadtree nodes (links live on leaves): the form
   // factor is evaluated exactly (Lambert) at the receiver's centre against
-  // every triangle of the shooter, visibility is the clear fraction of paired
-  // receiver/shooter samples.
+  // every triangle of the shooter and scaled by the clear fraction of shadow
+  // rays from receiver samples to shooter samples.
   struct Point {
     Vec3 p, n;
   };
@@ -172,42 +172,58 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
 
   const Vec3 x = model_.centroid(receiver.surface, receiver.node);
   const Vec3 nx = model_.normal(receiver.surface, receiver.node);
+  std::vector<Point> receiver_vis;
+  const auto receiver_triangle = model_.triangle(receiver.surface, receiver.node);
+  for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, 1))) {
+    receiver_vis.push_back({at(receiver_triangle, ts), nx});
+  }
+  const RayScene& scene = model_.rays();
+  std::vector<ShadowRay> segments;
   double ff = 0.0;
-  std::vector<Point> shooter_vis;
   if (is_cluster(shooter)) {
+    // Visibility weighted by form factor: shadow rays go to roots drawn in
+    // proportion to their share of the cluster's form factor (systematic
+    // sampling), so hidden or back-facing parts of a large shooter (floor
+    // under a block) do not dilute the visible fraction of the parts that
+    // carry the energy.
     const RootCluster& c = cluster(shooter);
-    for (NodeId r : c.roots) ff += point_triangle_form_factor(x, nx, model_.triangle(shooter.surface, r));
-    const std::size_t step = std::max<std::size_t>(1, c.roots.size() / kSurfaceSamples);
-    for (std::size_t i = step / 2; i < c.roots.size() && shooter_vis.size() < kSurfaceSamples; i += step) {
-      shooter_vis.push_back({model_.centroid(shooter.surface, c.roots[i]), model_.normal(shooter.surface, c.roots[i])});
+    std::vector<double> cumulative;
+    cumulative.reserve(c.roots.size());
+    for (NodeId r : c.roots) {
+      ff += point_triangle_form_factor(x, nx, model_.triangle(shooter.surface, r));
+      cumulative.push_back(ff);
+    }
+    if (!(ff > 0.0)) return 0.0f;
+    const std::size_t count = std::max<std::size_t>(receiver_vis.size(), kSurfaceSamples);
+    const double offset = unit_double(sample_key(key, 3));
+    for (std::size_t i = 0; i < count; ++i) {
+      const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * ff;
+      const std::size_t j = static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) -
+                                                     cumulative.begin());
+      const NodeId r = c.roots[std::min(j, c.roots.size() - 1)];
+      const TriangleSample ts = stratified_triangle_samples(1, sample_key(key, 4 + i)).front();
+      const Point& a = receiver_vis[i % receiver_vis.size()];
+      segments.push_back({scene.lift(a.p, a.n), scene.lift(at(model_.triangle(shooter.surface, r), ts),
+                                                            model_.normal(shooter.surface, r))});
     }
   } else {
     const auto tri = model_.triangle(shooter.surface, shooter.node);
     ff = point_triangle_form_factor(x, nx, tri);
+    if (!(ff > 0.0)) return 0.0f;
     const Vec3 n = model_.normal(shooter.surface, shooter.node);
-    for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, 2))) shooter_vis.push_back({at(tri, ts), n});
-  }
-  if (!(ff > 0.0)) return 0.0f;
-
-  std::vector<Point> receiver_vis;
-  const auto tri = model_.triangle(receiver.surface, receiver.node);
-  for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, 1))) receiver_vis.push_back({at(tri, ts), nx});
-
-  const std::size_t pairs = std::max(receiver_vis.size(), shooter_vis.size());
-  const RayScene& scene = model_.rays();
-  std::vector<ShadowRay> segments;
-  segments.reserve(pairs);
-  for (std::size_t i = 0; i < pairs; ++i) {
-    const Point& a = receiver_vis[i % receiver_vis.size()];
-    const Point& b = shooter_vis[i % shooter_vis.size()];
-    segments.push_back({scene.lift(a.p, a.n), scene.lift(b.p, b.n)});
+    const auto shooter_samples = stratified_triangle_samples(k, sample_key(key, 2));
+    const std::size_t pairs = std::max(receiver_vis.size(), shooter_samples.size());
+    for (std::size_t i = 0; i < pairs; ++i) {
+      const Point& a = receiver_vis[i % receiver_vis.size()];
+      segments.push_back({scene.lift(a.p, a.n), scene.lift(at(tri, shooter_samples[i % shooter_samples.size()]), n)});
+    }
   }
   std::vector<std::uint8_t> blocked(segments.size());
   scene.occluded(segments, blocked);
   rays += segments.size();
   std::size_t clear = 0;
   for (std::uint8_t b : blocked) clear += b ? 0 : 1;
-  return static_cast<float>(ff * static_cast<double>(clear) / static_cast<double>(pairs));
+  return static_cast<float>(ff * static_cast<double>(clear) / static_cast<double>(segments.size()));
 }
 
 void ClassicalSolver::compute_coefficients(std::vector<PendingLink>& pending) {

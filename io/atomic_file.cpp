@@ -13,8 +13,10 @@ std::filesystem::path temporary_beside(const std::filesystem::path& target) {
   std::random_device rd;
   const auto tag = std::to_string(::getpid()) + "-" + std::to_string(rd() % 1000000);
   // Keep the extension last: OpenMesh and OpenImageIO pick the format from it.
+  std::string name = ".";
+  name.append(target.stem().string()).append(".tmp-").append(tag).append(target.extension().string());
   std::filesystem::path temp = target;
-  temp.replace_filename("." + target.stem().string() + ".tmp-" + tag + target.extension().string());
+  temp.replace_filename(name);
   return temp;
 }
 

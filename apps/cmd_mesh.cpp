@@ -24,14 +24,8 @@ int run_mesh(const Args& args) {
   po::options_description visible("options");
   visible.add_options()("help,h", "show this help")
       ("out,o", po::value<std::string>()->required(), "output mesh, .ply or .off")
-      ("max-edge", po::value<double>(),
-       "h: longest edge of the initial mesh, in scene units (default: the scene file's, else 1/20 of "
-       "the bounding-box diagonal)")
-      ("min-angle", po::value<double>()->default_value(20.0),
-       "smallest angle in degrees the mesher guarantees where the input boundary allows it")
-      ("crease-angle", po::value<double>(),
-       "degrees between face normals above which an edge separates two surfaces (default 30)")
       ("quiet,q", "print nothing but errors");
+  add_scene_meshing_options(visible);
   po::options_description hidden;
   hidden.add_options()("scene", po::value<std::string>()->required(), "scene file");
   po::positional_options_description positional;
@@ -47,24 +41,13 @@ int run_mesh(const Args& args) {
     return kExitOk;
   }
   const bool quiet = vm.count("quiet") > 0;
-  LoadOptions load_options;
-  if (vm.count("crease-angle")) load_options.crease_angle_deg = vm["crease-angle"].as<double>();
-  LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options);
+  LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options_from(vm));
   if (!quiet) {
     for (const std::string& w : loaded.warnings) std::cerr << "lhr mesh: warning: " << w << "\n";
   }
   const Scene& scene = loaded.scene;
 
-  MeshingOptions meshing;
-  meshing.max_edge = vm.count("max-edge") ? vm["max-edge"].as<double>()
-                                          : scene.settings.max_edge.value_or(default_max_edge(scene));
-  meshing.min_angle_deg = vm["min-angle"].as<double>();
-  if (!(meshing.max_edge > 0.0) || !std::isfinite(meshing.max_edge)) {
-    throw po::error("--max-edge must be a positive number");
-  }
-  if (!(meshing.min_angle_deg > 0.0 && meshing.min_angle_deg <= 30.0)) {
-    throw po::error("--min-angle must be in (0, 30] degrees");
-  }
+  const MeshingOptions meshing = meshing_options_from(vm, scene);
 
   const bool progress = !quiet && ::isatty(STDERR_FILENO);
   ExportMesh out;

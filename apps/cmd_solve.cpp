@@ -43,14 +43,12 @@ int run_solve(const Args& args) {
       ("method", po::value<std::string>()->default_value("classical"),
        "solver: classical (Hanrahan et al. 1991, constant elements); the paper's linear method is not yet "
        "available")
-      ("max-edge", po::value<double>(),
-       "h: longest edge of the initial mesh (default: the scene file's, else 1/20 of the bounding-box diagonal)")
       ("eps-bf", po::value<double>()->default_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor exceeds this fraction of the brightest "
        "emitted radiance")
       ("min-edge", po::value<double>(), "smallest element edge (default h/32)")
       ("max-iterations", po::value<int>()->default_value(ClassicalOptions{}.max_iterations), "iteration limit")
-      ("tolerance", po::value<double>()->default_value(ClassicalOptions{}.tolerance),
+      ("tolerance", po::value<double>()->default_value(ClassicalOptions{}.tolerance, "1e-5"),
        "stop when no leaf changes by more than this fraction of the brightest emitted radiance")
       ("max-links", po::value<std::size_t>()->default_value(0), "stop refining at this many links (0: no limit)")
       ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
@@ -64,6 +62,7 @@ int run_solve(const Args& args) {
       ("threads", po::value<int>()->default_value(0), "worker threads (0: all cores); results do not depend on it")
       ("quiet,q", "print nothing but errors")
       ("verbose,v", "print every iteration");
+  add_scene_meshing_options(visible);
   po::options_description hidden;
   hidden.add_options()("scene", po::value<std::string>()->required(), "scene file");
   po::positional_options_description positional;
@@ -96,17 +95,14 @@ int run_solve(const Args& args) {
 
   const std::filesystem::path out_dir = vm["out"].as<std::string>();
   const auto t_start = Clock::now();
-  const LoadResult loaded = load_scene(vm["scene"].as<std::string>());
+  const LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options_from(vm));
   if (!quiet) {
     for (const std::string& w : loaded.warnings) std::cerr << "lhr solve: warning: " << w << "\n";
   }
   const Scene& scene = loaded.scene;
   const Camera camera = scene.camera.value_or(framing_camera(scene));
 
-  MeshingOptions meshing;
-  meshing.max_edge = vm.count("max-edge") ? vm["max-edge"].as<double>()
-                                          : scene.settings.max_edge.value_or(default_max_edge(scene));
-  if (!(meshing.max_edge > 0) || !std::isfinite(meshing.max_edge)) throw po::error("--max-edge must be positive");
+  const MeshingOptions meshing = meshing_options_from(vm, scene);
   ClassicalOptions options;
   options.eps_bf = vm["eps-bf"].as<double>();
   if (vm.count("min-edge")) options.min_edge = vm["min-edge"].as<double>();

@@ -2,9 +2,12 @@
 // Shared Boost.Program_options plumbing for subcommands.
 
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <iostream>
 
 #include "apps/commands.hpp"
+#include "io/scene_loader.hpp"
+#include "mesh/initial_mesh.hpp"
 
 namespace lhr::app {
 
@@ -25,6 +28,39 @@ inline bool parse_command_line(const Args& args, const char* usage, const po::op
   }
   po::notify(vm);
   return true;
+}
+
+// Options that load a scene and mesh it, shared by every command that does.
+inline void add_scene_meshing_options(po::options_description& options) {
+  options.add_options()
+      ("max-edge", po::value<double>(),
+       "h: longest edge of the initial mesh, in scene units (default: the scene file's, else 1/20 of "
+       "the bounding-box diagonal)")
+      ("min-angle", po::value<double>()->default_value(MeshingOptions{}.min_angle_deg),
+       "smallest angle in degrees the mesher guarantees where the input boundary allows it")
+      ("crease-angle", po::value<double>(),
+       "degrees between face normals above which an edge separates two surfaces (default 30)");
+}
+
+inline LoadOptions load_options_from(const po::variables_map& vm) {
+  LoadOptions options;
+  if (vm.count("crease-angle")) options.crease_angle_deg = vm["crease-angle"].as<double>();
+  return options;
+}
+
+// Flags override the scene file, which overrides the default h.
+inline MeshingOptions meshing_options_from(const po::variables_map& vm, const Scene& scene) {
+  MeshingOptions meshing;
+  meshing.max_edge = vm.count("max-edge") ? vm["max-edge"].as<double>()
+                                          : scene.settings.max_edge.value_or(default_max_edge(scene));
+  meshing.min_angle_deg = vm["min-angle"].as<double>();
+  if (!(meshing.max_edge > 0.0) || !std::isfinite(meshing.max_edge)) {
+    throw po::error("--max-edge must be a positive number");
+  }
+  if (!(meshing.min_angle_deg > 0.0 && meshing.min_angle_deg <= 30.0)) {
+    throw po::error("--min-angle must be in (0, 30] degrees");
+  }
+  return meshing;
 }
 
 }  // namespace lhr::app

@@ -179,6 +179,14 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
   }
   const RayScene& scene = model_.rays();
   std::vector<ShadowRay> segments;
+  // Only sample pairs that face each other carry energy; a pair behind
+  // either plane (the part of a floor triangle under a block, seen from the
+  // block's side) has no form factor and must not count as occlusion.
+  const auto add_pair = [&](const Point& a, const Point& b) {
+    if (OpenMesh::dot(a.n, b.p - a.p) > 0.0 && OpenMesh::dot(b.n, a.p - b.p) > 0.0) {
+      segments.push_back({scene.lift(a.p, a.n), scene.lift(b.p, b.n)});
+    }
+  };
   double ff = 0.0;
   if (is_cluster(shooter)) {
     // Visibility weighted by form factor: shadow rays go to roots drawn in
@@ -202,9 +210,8 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
                                                      cumulative.begin());
       const NodeId r = c.roots[std::min(j, c.roots.size() - 1)];
       const TriangleSample ts = stratified_triangle_samples(1, sample_key(key, 4 + i)).front();
-      const Point& a = receiver_vis[i % receiver_vis.size()];
-      segments.push_back({scene.lift(a.p, a.n), scene.lift(at(model_.triangle(shooter.surface, r), ts),
-                                                            model_.normal(shooter.surface, r))});
+      add_pair(receiver_vis[i % receiver_vis.size()],
+               {at(model_.triangle(shooter.surface, r), ts), model_.normal(shooter.surface, r)});
     }
   } else {
     const auto tri = model_.triangle(shooter.surface, shooter.node);
@@ -214,10 +221,11 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
     const auto shooter_samples = stratified_triangle_samples(k, sample_key(key, 2));
     const std::size_t pairs = std::max(receiver_vis.size(), shooter_samples.size());
     for (std::size_t i = 0; i < pairs; ++i) {
-      const Point& a = receiver_vis[i % receiver_vis.size()];
-      segments.push_back({scene.lift(a.p, a.n), scene.lift(at(tri, shooter_samples[i % shooter_samples.size()]), n)});
+      add_pair(receiver_vis[i % receiver_vis.size()], {at(tri, shooter_samples[i % shooter_samples.size()]), n});
     }
   }
+  // Every sample pair straddles a plane: nothing says the facing part is hidden.
+  if (segments.empty()) return static_cast<float>(ff);
   std::vector<std::uint8_t> blocked(segments.size());
   scene.occluded(segments, blocked);
   rays += segments.size();

@@ -8,7 +8,6 @@
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/Mesh/ArrayKernel.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -22,6 +21,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/input_error.hpp"
+#include "io/openmesh_import.hpp"
 
 namespace lhr {
 
@@ -42,129 +42,6 @@ std::string lower_extension(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
-
-// OpenMesh reports through its own global streams; lhr reports through
-// exceptions, so the library's chatter is muted while it works for us.
-class QuietOpenMesh {
- public:
-  QuietOpenMesh() : err_(::omerr().is_enabled()), log_(::omlog().is_enabled()),
-                    out_(::omout().is_enabled()) {
-    ::omerr().disable();
-    ::omlog().disable();
-    ::omout().disable();
-  }
-  ~QuietOpenMesh() {
-    if (err_) ::omerr().enable();
-    if (log_) ::omlog().enable();
-    if (out_) ::omout().enable();
-  }
-  QuietOpenMesh(const QuietOpenMesh&) = delete;
-  QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
-
- private:
-  bool err_, log_, out_;
-};
-
-// Thrown from inside OpenMesh's reader to stop it early on a hopeless header.
-struct AbortRead {
-  std::string problem;
-};
-
-// Records what OpenMesh's PLY/OFF readers parse, exactly as stored: unlike
-// OpenMesh's own importer it adds no half-edge structure, so no face is
-// dropped or altered and the checks see the file as it is.
-class RawImporter : public OpenMesh::IO::BaseImporter {
- public:
-  explicit RawImporter(std::uintmax_t file_size) : file_size_(file_size) {}
-
-  RawMesh& mesh() { return mesh_; }
-  const OpenMesh::ArrayKernel& properties() const { return properties_; }
-  std::size_t declared_vertices() const { return declared_vertices_; }
-  std::size_t declared_faces() const { return declared_faces_; }
-  std::size_t empty_faces() const { return empty_faces_; }
-
-  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override { return add_vertex(OpenMesh::Vec3d(p)); }
-  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d& p) override {
-    mesh_.points.push_back(p);
-    // Custom PLY properties (radiance) land in this kernel, indexed like ours.
-    return properties_.new_vertex();
-  }
-  OpenMesh::VertexHandle add_vertex() override { return add_vertex(OpenMesh::Vec3d(0.0)); }
-
-  OpenMesh::FaceHandle add_face(const VHandles& indices) override {
-    if (indices.empty()) ++empty_faces_;
-    std::vector<int>& face = mesh_.faces.emplace_back();
-    face.reserve(indices.size());
-    for (const auto& vh : indices) face.push_back(vh.idx());
-    return properties_.new_face();
-  }
-
-  void set_point(OpenMesh::VertexHandle vh, const OpenMesh::Vec3f& p) override {
-    mesh_.points.at(static_cast<std::size_t>(vh.idx())) = OpenMesh::Vec3d(p);
-  }
-
-  void reserve(unsigned int n_vertices, unsigned int /*n_edges*/, unsigned int n_faces) override {
-    declared_vertices_ = n_vertices;
-    declared_faces_ = n_faces;
-    // Every element takes at least one byte of the file: larger counts are a
-    // corrupt header, and reading on would loop over billions of empty records.
-    if (std::uintmax_t{n_vertices} + n_faces > file_size_) {
-      throw AbortRead{"header declares " + std::to_string(n_vertices) + " vertices and " + std::to_string(n_faces) +
-                      " faces, more than a file of " + std::to_string(file_size_) + " bytes can hold"};
-    }
-    mesh_.points.reserve(n_vertices);
-    mesh_.faces.reserve(n_faces);
-  }
-
-  std::size_t n_vertices() const override { return mesh_.points.size(); }
-  std::size_t n_faces() const override { return mesh_.faces.size(); }
-  std::size_t n_edges() const override { return 0; }
-  OpenMesh::BaseKernel* kernel() override { return &properties_; }
-
-  // Everything else a reader may hand over is not part of a RawMesh.
-  OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override { return OpenMesh::HalfedgeHandle(); }
-  OpenMesh::FaceHandle add_face(OpenMesh::HalfedgeHandle) override { return OpenMesh::FaceHandle(); }
-  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle, const std::vector<OpenMesh::Vec2f>&) override {}
-  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle, const std::vector<OpenMesh::Vec3f>&) override {}
-  void set_face_texindex(OpenMesh::FaceHandle, int) override {}
-  void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
-  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4f&) override {}
-  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec2f&) override {}
-  void set_status(OpenMesh::VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
-  void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
-  void request_face_texcoords2D() override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
-  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
-  void set_status(OpenMesh::HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4f&) override {}
-  void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
-  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3d&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4f&) override {}
-  void set_status(OpenMesh::FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void add_texture_information(int, std::string) override {}
-
- private:
-  std::uintmax_t file_size_;
-  RawMesh mesh_;
-  OpenMesh::ArrayKernel properties_;
-  std::size_t declared_vertices_ = 0;
-  std::size_t declared_faces_ = 0;
-  std::size_t empty_faces_ = 0;
-};
 
 // One radiance channel as the PLY stores it (float as lhr writes, double
 // accepted from other tools); false when absent.
@@ -318,33 +195,36 @@ RawMesh read_raw_mesh(const std::filesystem::path& path) {
   if (size == 0) throw InputError(path, "file is empty");
   if (!std::ifstream(path, std::ios::binary)) throw InputError(path, "cannot open for reading");
 
-  RawImporter importer(size);
+  // Every element takes at least one byte of the file.
+  PlainImporter importer(size);
   OpenMesh::IO::Options options = OpenMesh::IO::Options::Custom;
   bool ok = false;
   {
     const QuietOpenMesh quiet;
     try {
       ok = OpenMesh::IO::IOManager().read(path.string(), importer, options);
-    } catch (const AbortRead& abort) {
+    } catch (const ImportAborted& abort) {
       throw InputError(path, abort.problem);
     }
   }
   const std::string format = ext == ".ply" ? "PLY" : "OFF";
   if (!ok) throw InputError(path, "not a valid " + format + " file (bad header or truncated data)");
 
-  RawMesh& mesh = importer.mesh();
-  if (mesh.points.size() != importer.declared_vertices()) {
-    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_vertices()) +
+  RawMesh mesh;
+  mesh.points = std::move(importer.points);
+  mesh.faces = std::move(importer.faces);
+  if (mesh.points.size() != importer.declared_vertices) {
+    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_vertices) +
                                " vertices, file holds " + std::to_string(mesh.points.size()));
   }
-  if (mesh.faces.size() != importer.declared_faces()) {
-    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_faces()) +
+  if (mesh.faces.size() != importer.declared_faces) {
+    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_faces) +
                                " faces, file holds " + std::to_string(mesh.faces.size()));
   }
   // A failed text parse yields faces without indices (the readers then read
   // zeros to the end), so an empty face means a malformed or truncated file.
-  if (importer.empty_faces() > 0) {
-    throw InputError(path, std::to_string(importer.empty_faces()) +
+  if (importer.empty_faces > 0) {
+    throw InputError(path, std::to_string(importer.empty_faces) +
                                " face(s) without vertex indices (malformed or truncated face list)");
   }
   if (mesh.faces.empty()) throw InputError(path, "contains no faces");
@@ -353,7 +233,7 @@ RawMesh read_raw_mesh(const std::filesystem::path& path) {
   bool all = true;
   for (int c = 0; c < 3; ++c) all = read_channel(importer.properties(), kRadianceNames[c], radiance, c) && all;
   if (all) mesh.radiance = std::move(radiance);
-  return std::move(mesh);
+  return mesh;
 }
 
 }  // namespace lhr

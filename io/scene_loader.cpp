@@ -26,6 +26,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "io/openmesh_import.hpp"
 #include "mesh/surfaces.hpp"
 
 namespace lhr {
@@ -427,134 +428,6 @@ PolygonSoup load_obj(const fs::path& path) {
 
 // ------------------------------------------------------------------ PLY / OFF
 
-// Collects what OpenMesh's readers deliver as a plain polygon soup. A
-// PolyMesh would reject non-manifold faces and cannot hold out-of-range
-// indices, so errors could not be reported; here every face is kept and
-// checked afterwards.
-class SoupImporter : public OpenMesh::IO::BaseImporter {
- public:
-  std::vector<Vec3> points;
-  std::vector<std::optional<Rgb>> vertex_colours;
-  std::vector<std::vector<long long>> faces;
-  std::vector<std::optional<Rgb>> face_colours;
-
-  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override {
-    return add_vertex(OpenMesh::Vec3d(p));
-  }
-  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d& p) override {
-    points.push_back(p);
-    vertex_colours.emplace_back();
-    return OpenMesh::VertexHandle(static_cast<int>(points.size()) - 1);
-  }
-  OpenMesh::VertexHandle add_vertex() override { return add_vertex(OpenMesh::Vec3d(0, 0, 0)); }
-  OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override {
-    return OpenMesh::HalfedgeHandle();
-  }
-  OpenMesh::FaceHandle add_face(const VHandles& vertices) override {
-    std::vector<long long> face;
-    for (const OpenMesh::VertexHandle& v : vertices) face.push_back(v.idx());
-    faces.push_back(std::move(face));
-    face_colours.emplace_back();
-    return OpenMesh::FaceHandle(static_cast<int>(faces.size()) - 1);
-  }
-  OpenMesh::FaceHandle add_face(OpenMesh::HalfedgeHandle) override { return OpenMesh::FaceHandle(); }
-  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
-                          const std::vector<OpenMesh::Vec2f>&) override {}
-  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
-                          const std::vector<OpenMesh::Vec3f>&) override {}
-  void set_face_texindex(OpenMesh::FaceHandle, int) override {}
-  void set_point(OpenMesh::VertexHandle v, const OpenMesh::Vec3f& p) override {
-    if (in_range(v.idx(), points.size())) points[v.idx()] = OpenMesh::Vec3d(p);
-  }
-  void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
-  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override {}
-  void set_color(OpenMesh::VertexHandle v, const OpenMesh::Vec3uc& c) override {
-    set(vertex_colours, v.idx(), bytes(c));
-  }
-  void set_color(OpenMesh::VertexHandle v, const OpenMesh::Vec4uc& c) override {
-    set(vertex_colours, v.idx(), bytes(OpenMesh::Vec3uc(c[0], c[1], c[2])));
-  }
-  void set_color(OpenMesh::VertexHandle v, const OpenMesh::Vec3f& c) override {
-    set(vertex_colours, v.idx(), Rgb(c));
-  }
-  void set_color(OpenMesh::VertexHandle v, const OpenMesh::Vec4f& c) override {
-    set(vertex_colours, v.idx(), Rgb(c[0], c[1], c[2]));
-  }
-  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec2f&) override {}
-  void set_status(OpenMesh::VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
-  void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
-  void request_face_texcoords2D() override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
-  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
-  void set_status(OpenMesh::HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4f&) override {}
-  void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
-  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3d&) override {}
-  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec3uc& c) override {
-    set(face_colours, f.idx(), bytes(c));
-  }
-  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec4uc& c) override {
-    set(face_colours, f.idx(), bytes(OpenMesh::Vec3uc(c[0], c[1], c[2])));
-  }
-  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec3f& c) override {
-    set(face_colours, f.idx(), Rgb(c));
-  }
-  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec4f& c) override {
-    set(face_colours, f.idx(), Rgb(c[0], c[1], c[2]));
-  }
-  void set_status(OpenMesh::FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void add_texture_information(int, std::string) override {}
-  size_t n_vertices() const override { return points.size(); }
-  size_t n_faces() const override { return faces.size(); }
-  size_t n_edges() const override { return 0; }
-
- private:
-  static bool in_range(int i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
-  static Rgb bytes(const OpenMesh::Vec3uc& c) { return Rgb(c[0], c[1], c[2]) / 255.0; }
-  static void set(std::vector<std::optional<Rgb>>& colours, int i, const Rgb& c) {
-    if (in_range(i, colours.size())) colours[i] = c;
-  }
-};
-
-// OpenMesh's readers report to omerr/omlog and, in places, straight to
-// std::cerr; a loader error must reach the user as exactly one line, so
-// all of it is muted while a reader runs.
-class QuietOpenMesh {
- public:
-  QuietOpenMesh()
-      : err_(omerr().is_enabled()),
-        log_(omlog().is_enabled()),
-        out_(omout().is_enabled()),
-        cerr_(std::cerr.rdbuf(&sink_)),
-        clog_(std::clog.rdbuf(&sink_)) {
-    omerr().disable();
-    omlog().disable();
-    omout().disable();
-  }
-  ~QuietOpenMesh() {
-    std::cerr.rdbuf(cerr_);
-    std::clog.rdbuf(clog_);
-    if (err_) omerr().enable();
-    if (log_) omlog().enable();
-    if (out_) omout().enable();
-  }
-  QuietOpenMesh(const QuietOpenMesh&) = delete;
-  QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
-
- private:
-  std::stringbuf sink_;
-  bool err_, log_, out_;
-  std::streambuf* cerr_;
-  std::streambuf* clog_;
-};
-
 class TempFile {
  public:
   TempFile(const std::string& content, const std::string& suffix) {
@@ -845,7 +718,9 @@ PolygonSoup load_openmesh(const fs::path& path, const std::string& ext) {
   const std::string bytes = read_file(path);
   if (bytes.empty()) throw InputError(path, "empty file");
   Declared declared;
-  SoupImporter importer;
+  // Every face is kept as read and checked below: OpenMesh's own importer
+  // would drop non-manifold faces and could not hold out-of-range indices.
+  PlainImporter importer;
   OpenMesh::IO::Options options;
   options += OpenMesh::IO::Options::VertexColor;
   options += OpenMesh::IO::Options::FaceColor;
@@ -908,7 +783,8 @@ PolygonSoup load_openmesh(const fs::path& path, const std::string& ext) {
   for (std::size_t f = 0; f < importer.faces.size(); ++f) {
     InputFace face;
     face.vertices = checked_face(
-        importer.faces[f], static_cast<long long>(soup.points.size()),
+        std::vector<long long>(importer.faces[f].begin(), importer.faces[f].end()),
+        static_cast<long long>(soup.points.size()),
         [&](const std::string& p) { return InputError(path, "face " + std::to_string(f) + ": " + p); });
     face.source_line = static_cast<int>(f);
     std::optional<Rgb> colour = importer.face_colours[f];

@@ -54,11 +54,15 @@ int run_solve(const Args& args) {
       ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
        "k: k^2 shadow rays per link")
       ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
-       "tumblin-rushmeier (paper ref. 18) or linear")
+       "tumblin-rushmeier (paper ref. 18) or linear; the tone flags override the scene file's "
+       "\"tone_map\" block, which overrides these defaults")
       ("adaptation", po::value<double>()->default_value(0.0),
        "world adaptation luminance for tumblin-rushmeier, scene units (0: log-average the camera sees)")
       ("units-to-cd", po::value<double>()->default_value(1.0), "cd/m^2 per scene radiance unit")
       ("white", po::value<double>()->default_value(0.0), "linear tone map: luminance shown as white (0: brightest seen)")
+      ("display-max", po::value<double>()->default_value(100.0), "tumblin-rushmeier: display's maximum luminance, cd/m^2")
+      ("max-contrast", po::value<double>()->default_value(100.0), "tumblin-rushmeier: display's maximum contrast")
+      ("gamma", po::value<double>()->default_value(2.2), "display gamma")
       ("threads", po::value<int>()->default_value(0), "worker threads (0: all cores); results do not depend on it")
       ("quiet,q", "print nothing but errors")
       ("verbose,v", "print every iteration");
@@ -82,8 +86,7 @@ int run_solve(const Args& args) {
   if (vm["method"].as<std::string>() != "classical") {
     throw po::error("--method: only 'classical' is available in this version");
   }
-  const std::string tone_name = vm["tone-map"].as<std::string>();
-  if (tone_name != "tumblin-rushmeier" && tone_name != "linear") {
+  if (vm["tone-map"].as<std::string>() != "tumblin-rushmeier" && vm["tone-map"].as<std::string>() != "linear") {
     throw po::error("--tone-map must be tumblin-rushmeier or linear");
   }
   const int threads = vm["threads"].as<int>();
@@ -147,10 +150,25 @@ int run_solve(const Args& args) {
     surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
   }
   ToneMapChoice tone;
+  // A flag given on the command line wins; else the scene file; else the flag's default.
+  const ToneMapSettings& file_tone = scene.settings.tone_map;
+  const auto pick = [&](const char* flag, const std::optional<double>& from_file) {
+    return (!vm[flag].defaulted() || !from_file) ? vm[flag].as<double>() : *from_file;
+  };
+  const std::string tone_name = (!vm["tone-map"].defaulted() || !file_tone.kind) ? vm["tone-map"].as<std::string>()
+                                                                                 : *file_tone.kind;
   tone.kind = tone_name == "linear" ? ToneMapChoice::Kind::kLinear : ToneMapChoice::Kind::kTumblinRushmeier;
-  tone.world_adaptation = vm["adaptation"].as<double>();
-  tone.units_to_cd_m2 = vm["units-to-cd"].as<double>();
-  tone.linear_white = vm["white"].as<double>();
+  tone.world_adaptation = pick("adaptation", file_tone.world_adaptation);
+  tone.units_to_cd_m2 = pick("units-to-cd", file_tone.units_to_cd_m2);
+  tone.linear_white = pick("white", file_tone.white);
+  tone.display_max_cd_m2 = pick("display-max", file_tone.display_max_cd_m2);
+  tone.max_contrast = pick("max-contrast", file_tone.max_contrast);
+  tone.gamma = pick("gamma", file_tone.gamma);
+  if (!(tone.units_to_cd_m2 > 0) || !(tone.display_max_cd_m2 > 0) || !(tone.max_contrast > 1) ||
+      !(tone.gamma > 0) || !(tone.world_adaptation >= 0) || !(tone.linear_white >= 0)) {
+    throw po::error("tone map: --units-to-cd, --display-max and --gamma must be positive, --max-contrast above 1, "
+                    "--adaptation and --white zero or positive");
+  }
   const SolutionView view = make_solution_view(surfaces, camera, tone);
   write_mesh(out_dir / "mesh.ply", view.export_mesh);
   write_mesh(out_dir / "mesh.off", view.export_mesh);

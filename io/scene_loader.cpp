@@ -913,6 +913,35 @@ SceneFile parse_scene_file(const fs::path& path) {
       scene.settings.crease_angle_deg = a;
     }
   }
+  if (root.contains("tone_map")) {
+    const Json& t = root.at("tone_map");
+    if (!t.is_object()) r.fail("\"tone_map\" must be an object");
+    ToneMapSettings& tone = scene.settings.tone_map;
+    for (const auto& [key, value] : t.items()) {
+      const std::string name = "tone_map." + key;
+      if (key == "kind") {
+        if (!value.is_string() || (value != "tumblin-rushmeier" && value != "linear")) {
+          r.fail("\"" + name + "\" must be \"tumblin-rushmeier\" or \"linear\"");
+        }
+        tone.kind = value.get<std::string>();
+        continue;
+      }
+      const double v = r.number(value, name);
+      if (key == "world_adaptation" || key == "white") {
+        if (!(v >= 0.0)) r.fail("\"" + name + "\" must be 0 (automatic) or positive");
+        (key == "white" ? tone.white : tone.world_adaptation) = v;
+      } else if (key == "units_to_cd_m2" || key == "display_max_cd_m2" || key == "gamma") {
+        if (!(v > 0.0)) r.fail("\"" + name + "\" must be positive");
+        (key == "gamma" ? tone.gamma : key == "units_to_cd_m2" ? tone.units_to_cd_m2 : tone.display_max_cd_m2) = v;
+      } else if (key == "max_contrast") {
+        if (!(v > 1.0)) r.fail("\"" + name + "\" must be above 1");
+        tone.max_contrast = v;
+      } else {
+        r.fail("unknown key \"" + name + "\" (kind, world_adaptation, units_to_cd_m2, display_max_cd_m2, "
+               "max_contrast, gamma, white)");
+      }
+    }
+  }
   const std::string mesh_ext = extension_of(scene.mesh);
   if (mesh_ext != ".obj" && mesh_ext != ".ply" && mesh_ext != ".off") {
     r.fail("\"mesh\" must name an .obj, .ply or .off file, not " + show(mesh.get<std::string>()));

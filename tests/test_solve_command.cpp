@@ -83,3 +83,36 @@ TEST(SolveCommand, BadInputFailsInOneLineAndWritesNothing) {
 
 }  // namespace
 }  // namespace lhr
+
+namespace lhr {
+namespace {
+
+TEST(SolveCommand, ToneMapComesFromTheSceneFileUnlessAFlagSaysOtherwise) {
+  const auto dir = test::fresh_dir("solve_tone");
+  const std::string obj = (test::source_dir() / "data/cornell/cornell.obj").string();
+  test::write_text(dir / "lin.scene.json",
+                   "{\"mesh\": \"" + obj + "\", \"camera\": {\"eye\": [278, 273, -800], \"target\": [278, 273, 0], "
+                   "\"up\": [0, 1, 0], \"fov_y_deg\": 39.3, \"width\": 64, \"height\": 64}, "
+                   "\"tone_map\": {\"kind\": \"linear\", \"white\": 5, \"gamma\": 1.8}}");
+  const auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args{"solve", (dir / "lin.scene.json").string(), "--out", (dir / out).string(),
+                                  "--max-edge", "140", "--eps-bf", "0.05", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = test::run_lhr(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(test::read_text(dir / out / "stats.json"))["parameters"]["tone_map"]
+        .get<std::string>();
+  };
+  EXPECT_EQ(run("file", {}), "linear (white 5, gamma 1.8)");
+  EXPECT_EQ(run("flag", {"--white", "7"}), "linear (white 7, gamma 1.8)");
+  EXPECT_EQ(run("kind", {"--tone-map", "tumblin-rushmeier"}).rfind("tumblin-rushmeier", 0), 0u);
+
+  test::write_text(dir / "bad.scene.json", "{\"mesh\": \"" + obj + "\", \"tone_map\": {\"kind\": \"reinhardt\"}}");
+  const auto bad = test::run_lhr({"solve", (dir / "bad.scene.json").string(), "--out", (dir / "bad").string()});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(test::count_lines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("tone_map.kind"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace lhr

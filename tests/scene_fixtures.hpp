@@ -25,24 +25,30 @@ inline Scene scene_from_soup(const PolygonSoup& soup, const std::string& name) {
   return scene;
 }
 
-// Closed unit cube, every face seen from inside, one material.
-inline Scene furnace_cube(double reflectance, double emission) {
+// Closed unit cube, every face seen from inside: the top face (z = 1) gets
+// `top`, the other five `walls`.
+inline Scene closed_cube(const Material& walls, const Material& top, const std::string& name) {
   PolygonSoup soup;
-  Material m;
-  m.name = "furnace";
-  m.reflectance = Rgb(reflectance, reflectance, reflectance);
-  m.emission = Rgb(emission, emission, emission);
-  soup.materials.push_back(m);
-  soup.groups = {"cube"};
+  soup.materials = {walls, top};
+  soup.groups = {"walls", "top"};
   const Vec3 p000(0, 0, 0), p100(1, 0, 0), p010(0, 1, 0), p110(1, 1, 0);
   const Vec3 p001(0, 0, 1), p101(1, 0, 1), p011(0, 1, 1), p111(1, 1, 1);
   add_quad(soup, p000, p100, p110, p010, 0, 0);  // z = 0, faces +z
-  add_quad(soup, p001, p011, p111, p101, 0, 0);  // z = 1, faces −z
+  add_quad(soup, p001, p011, p111, p101, 1, 1);  // z = 1, faces −z
   add_quad(soup, p000, p001, p101, p100, 0, 0);  // y = 0, faces +y
   add_quad(soup, p010, p110, p111, p011, 0, 0);  // y = 1, faces −y
   add_quad(soup, p000, p010, p011, p001, 0, 0);  // x = 0, faces +x
   add_quad(soup, p100, p101, p111, p110, 0, 0);  // x = 1, faces −x
-  return scene_from_soup(soup, "furnace cube");
+  return scene_from_soup(soup, name);
+}
+
+// The furnace: every face the same material.
+inline Scene furnace_cube(double reflectance, double emission) {
+  Material m;
+  m.name = "furnace";
+  m.reflectance = Rgb(reflectance, reflectance, reflectance);
+  m.emission = Rgb(emission, emission, emission);
+  return closed_cube(m, m, "furnace cube");
 }
 
 // A square emitter (Kd 0) of side `size` at height `height`, facing down,

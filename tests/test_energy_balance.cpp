@@ -81,22 +81,11 @@ namespace {
 TEST(EnergyBalance, ClosedBoxAbsorbsAllItEmits) {
   // A closed unit cube lit by its top face: nothing escapes, so the absorbed
   // power equals the emitted power.
-  PolygonSoup soup;
   Material wall, light;
   wall.reflectance = Rgb(0.5, 0.5, 0.5);
   light.reflectance = Rgb(0, 0, 0);
   light.emission = Rgb(1, 1, 1);
-  soup.materials = {wall, light};
-  soup.groups = {"box", "light"};
-  const Vec3 p000(0, 0, 0), p100(1, 0, 0), p010(0, 1, 0), p110(1, 1, 0);
-  const Vec3 p001(0, 0, 1), p101(1, 0, 1), p011(0, 1, 1), p111(1, 1, 1);
-  test::add_quad(soup, p000, p100, p110, p010, 0, 0);
-  test::add_quad(soup, p001, p011, p111, p101, 1, 1);
-  test::add_quad(soup, p000, p001, p101, p100, 0, 0);
-  test::add_quad(soup, p010, p110, p111, p011, 0, 0);
-  test::add_quad(soup, p000, p010, p011, p001, 0, 0);
-  test::add_quad(soup, p100, p101, p111, p110, 0, 0);
-  const Scene scene = test::scene_from_soup(soup, "lit box");
+  const Scene scene = test::closed_cube(wall, light, "lit box");
   MeshingOptions meshing;
   meshing.max_edge = 0.5;
   SceneModel model(scene, meshing);

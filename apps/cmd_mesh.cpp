@@ -26,10 +26,6 @@ int run_mesh(const Args& args) {
       ("out,o", po::value<std::string>()->required(), "output mesh, .ply or .off")
       ("quiet,q", "print nothing but errors");
   add_scene_meshing_options(visible);
-  po::options_description hidden;
-  hidden.add_options()("scene", po::value<std::string>()->required(), "scene file");
-  po::positional_options_description positional;
-  positional.add("scene", 1);
   po::variables_map vm;
   if (!parse_command_line(args,
                           "usage: lhr mesh SCENE --out FILE.ply|FILE.off [options]\n\n"
@@ -37,7 +33,7 @@ int run_mesh(const Args& args) {
                           "meshes each to the minimum density h (constrained Delaunay for planar surfaces,\n"
                           "isotropic remeshing for curved ones). The mesh is written with each surface's\n"
                           "reflectance as vertex colour and its emitted radiance as radiance.",
-                          visible, hidden, positional, vm)) {
+                          visible, Positional{"scene"}, vm)) {
     return kExitOk;
   }
   const bool quiet = vm.count("quiet") > 0;

@@ -14,15 +14,11 @@ int run_scene(const Args& args) {
   visible.add_options()("help,h", "show this help")
       ("out-dir,o", po::value<std::string>()->default_value("."), "directory for NAME.obj, NAME.mtl, NAME.scene.json")
       ("list", "print the names of the scenes");
-  po::options_description hidden;
-  hidden.add_options()("name", po::value<std::string>(), "scene name");
-  po::positional_options_description positional;
-  positional.add("name", 1);
   po::variables_map vm;
   const std::string usage = "usage: lhr scene NAME [--out-dir DIR]\n\n"
                             "Writes one of the paper's test scenes (§6) as OBJ/MTL plus a scene JSON\n"
                             "with its camera. Scenes: " + names + ".";
-  if (!parse_command_line(args, usage.c_str(), visible, hidden, positional, vm)) return kExitOk;
+  if (!parse_command_line(args, usage.c_str(), visible, Positional{"name", false}, vm)) return kExitOk;
   if (vm.count("list")) {
     for (const std::string& n : generated_scene_names()) std::cout << n << "\n";
     return kExitOk;

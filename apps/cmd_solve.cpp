@@ -67,17 +67,13 @@ int run_solve(const Args& args) {
       ("quiet,q", "print nothing but errors")
       ("verbose,v", "print every iteration");
   add_scene_meshing_options(visible);
-  po::options_description hidden;
-  hidden.add_options()("scene", po::value<std::string>()->required(), "scene file");
-  po::positional_options_description positional;
-  positional.add("scene", 1);
   po::variables_map vm;
   if (!parse_command_line(args,
                           "usage: lhr solve SCENE --out DIR [options]\n\n"
                           "Computes diffuse global illumination for SCENE (.scene.json, .obj, .ply, .off)\n"
                           "and writes the lit, refined mesh, a Gouraud view from the scene camera and the\n"
                           "solver's statistics.",
-                          visible, hidden, positional, vm)) {
+                          visible, Positional{"scene"}, vm)) {
     return kExitOk;
   }
   const bool quiet = vm.count("quiet") > 0;

@@ -18,10 +18,6 @@ int run_validate(const Args& args) {
        "distance, relative to the bounding-box diagonal, under which a vertex counts as lying on an edge "
        "and a face as flat (files hold float coordinates, so keep it well above 1e-7)")
       ("quiet,q", "print nothing when every check holds");
-  po::options_description hidden;
-  hidden.add_options()("file", po::value<std::string>()->required(), "mesh file");
-  po::positional_options_description positional;
-  positional.add("file", 1);
   po::variables_map vm;
   if (!parse_command_line(args,
                           "usage: lhr validate FILE.ply|FILE.off [options]\n\n"
@@ -29,7 +25,7 @@ int run_validate(const Args& args) {
                           "duplicated faces, manifold edges and vertices, consistent orientation, and no\n"
                           "T-junction cracks inside a connected component. Exits 0 when all hold, 1 with\n"
                           "one line per violation otherwise.",
-                          visible, hidden, positional, vm)) {
+                          visible, Positional{"file"}, vm)) {
     return kExitOk;
   }
   const std::string file = vm["file"].as<std::string>();

@@ -4,6 +4,7 @@
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <iostream>
+#include <string>
 
 #include "apps/commands.hpp"
 #include "io/scene_loader.hpp"
@@ -13,14 +14,23 @@ namespace lhr::app {
 
 namespace po = boost::program_options;
 
-// Parses args against visible options plus positionals; prints help and
-// returns false when --help was given.
-// `hidden` declares the positional arguments, which the usage line describes.
-inline bool parse_command_line(const Args& args, const char* usage, const po::options_description& visible,
-                               const po::options_description& hidden,
-                               const po::positional_options_description& positional, po::variables_map& vm) {
+// How a command takes its one positional argument (SCENE, FILE, NAME).
+struct Positional {
+  const char* name;
+  bool required = true;
+};
+
+// Parses args against the visible options plus the command's positional
+// argument; prints help and returns false when --help was given.
+inline bool parse_command_line(const Args& args, const std::string& usage, const po::options_description& visible,
+                               const Positional& positional_arg, po::variables_map& vm) {
   po::options_description all;
-  all.add(visible).add(hidden);
+  all.add(visible);
+  auto* value = po::value<std::string>();
+  if (positional_arg.required) value->required();
+  all.add_options()(positional_arg.name, value, positional_arg.name);
+  po::positional_options_description positional;
+  positional.add(positional_arg.name, 1);
   po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
     std::cout << usage << "\n\n" << visible << "\n";

@@ -16,7 +16,9 @@
 #include "io/mesh_io.hpp"
 #include "io/scene_loader.hpp"
 #include "radiosity/classical_solver.hpp"
+#include "radiosity/linear_solver.hpp"
 #include "radiosity/scene_model.hpp"
+#include "render/gouraud.hpp"
 #include "render/solution_view.hpp"
 
 namespace lhr::app {
@@ -40,16 +42,26 @@ int run_solve(const Args& args) {
   visible.add_options()("help,h", "show this help")
       ("out,o", po::value<std::string>()->required(),
        "output directory (created if missing): mesh.ply, mesh.off, image.png, image.exr, stats.json")
-      ("method", po::value<std::string>()->default_value("classical"),
-       "solver: classical (Hanrahan et al. 1991, constant elements); the paper's linear method is not yet "
-       "available")
+      ("method", po::value<std::string>()->default_value("linear"),
+       "solver: linear (the paper's linear hierarchical radiosity with the image-space refinement criterion) "
+       "or classical (Hanrahan et al. 1991, constant elements, BF refinement)")
+      ("eps-pixel", po::value<double>()->default_value(LinearOptions{}.eps_pixel),
+       "linear: split a receiver edge when its display error times the pixels it covers reaches this (paper 4.1)")
+      ("eps-link", po::value<double>()->default_value(LinearOptions{}.eps_link),
+       "linear: refine a link when its reflected contribution, relative to the adaptation luminance, times the "
+       "pixels of the receiving node reaches this (paper 4.2)")
+      ("vis-threshold", po::value<double>()->default_value(LinearOptions{}.vis_threshold),
+       "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
+      ("link-power", po::value<double>()->default_value(LinearOptions{}.link_power),
+       "linear: a surface starts shooting once its power reaches this fraction of the emitted power")
       ("eps-bf", po::value<double>()->default_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor exceeds this fraction of the brightest "
        "emitted radiance")
       ("min-edge", po::value<double>(), "smallest element edge (default h/32)")
-      ("max-iterations", po::value<int>()->default_value(ClassicalOptions{}.max_iterations), "iteration limit")
-      ("tolerance", po::value<double>()->default_value(ClassicalOptions{}.tolerance, "1e-5"),
-       "stop when no leaf changes by more than this fraction of the brightest emitted radiance")
+      ("max-iterations", po::value<int>(), "iteration limit (default: linear 50, classical 100)")
+      ("tolerance", po::value<double>(),
+       "stop when no value changes by more than this fraction of the brightest emitted radiance "
+       "(default: linear 1e-4, classical 1e-5)")
       ("max-links", po::value<std::size_t>()->default_value(0), "stop refining at this many links (0: no limit)")
       ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
        "k: k^2 shadow rays per link")
@@ -79,9 +91,8 @@ int run_solve(const Args& args) {
   const bool quiet = vm.count("quiet") > 0;
   const bool verbose = vm.count("verbose") > 0 && !quiet;
   const bool progress = !quiet && ::isatty(STDERR_FILENO);
-  if (vm["method"].as<std::string>() != "classical") {
-    throw po::error("--method: only 'classical' is available in this version");
-  }
+  const std::string method = vm["method"].as<std::string>();
+  if (method != "linear" && method != "classical") throw po::error("--method must be linear or classical");
   if (vm["tone-map"].as<std::string>() != "tumblin-rushmeier" && vm["tone-map"].as<std::string>() != "linear") {
     throw po::error("--tone-map must be tumblin-rushmeier or linear");
   }
@@ -102,16 +113,35 @@ int run_solve(const Args& args) {
   const Camera camera = scene.camera.value_or(framing_camera(scene));
 
   const MeshingOptions meshing = meshing_options_from(vm, scene);
-  ClassicalOptions options;
-  options.eps_bf = vm["eps-bf"].as<double>();
-  if (vm.count("min-edge")) options.min_edge = vm["min-edge"].as<double>();
-  options.max_iterations = vm["max-iterations"].as<int>();
-  options.tolerance = vm["tolerance"].as<double>();
-  options.max_links = vm["max-links"].as<std::size_t>();
-  options.visibility_samples = vm["visibility-samples"].as<int>();
-  if (!(options.eps_bf > 0)) throw po::error("--eps-bf must be positive");
-  if (options.max_iterations < 1) throw po::error("--max-iterations must be at least 1");
-  if (options.visibility_samples < 1) throw po::error("--visibility-samples must be at least 1");
+  ClassicalOptions classical;
+  LinearOptions linear;
+  const double min_edge = vm.count("min-edge") ? vm["min-edge"].as<double>() : 0.0;
+  const int max_iterations = vm.count("max-iterations") ? vm["max-iterations"].as<int>()
+                             : method == "linear"        ? linear.max_iterations
+                                                         : classical.max_iterations;
+  const double tolerance = vm.count("tolerance") ? vm["tolerance"].as<double>()
+                           : method == "linear"    ? linear.tolerance
+                                                   : classical.tolerance;
+  const std::size_t max_links = vm["max-links"].as<std::size_t>();
+  const int visibility_samples = vm["visibility-samples"].as<int>();
+  classical.eps_bf = vm["eps-bf"].as<double>();
+  linear.eps_pixel = vm["eps-pixel"].as<double>();
+  linear.eps_link = vm["eps-link"].as<double>();
+  linear.vis_threshold = vm["vis-threshold"].as<double>();
+  linear.link_power = vm["link-power"].as<double>();
+  classical.min_edge = linear.min_edge = min_edge;
+  classical.max_iterations = linear.max_iterations = max_iterations;
+  classical.tolerance = linear.tolerance = tolerance;
+  classical.max_links = linear.max_links = max_links;
+  classical.visibility_samples = linear.visibility_samples = visibility_samples;
+  if (!(classical.eps_bf > 0)) throw po::error("--eps-bf must be positive");
+  if (!(linear.eps_pixel > 0) || !(linear.eps_link > 0)) throw po::error("--eps-pixel and --eps-link must be positive");
+  if (!(linear.vis_threshold > 0)) throw po::error("--vis-threshold must be positive");
+  if (!(linear.link_power >= 0)) throw po::error("--link-power must be zero or positive");
+  if (!(min_edge >= 0)) throw po::error("--min-edge must be zero or positive");
+  if (max_iterations < 1) throw po::error("--max-iterations must be at least 1");
+  if (!(tolerance > 0)) throw po::error("--tolerance must be positive");
+  if (visibility_samples < 1) throw po::error("--visibility-samples must be at least 1");
 
   // Refuse an unusable output directory before the work, not after.
   std::filesystem::create_directories(out_dir);
@@ -123,28 +153,8 @@ int run_solve(const Args& args) {
   const auto t_mesh = Clock::now();
   SceneModel model(scene, meshing);
   const double seconds_meshing = seconds_since(t_mesh);
-  ClassicalSolver solver(model, options);
-  const auto t_solve = Clock::now();
-  solver.solve([&](int iteration, double change) {
-    if (verbose) {
-      std::cerr << "iteration " << iteration << ": largest change " << change << "\n";
-    } else if (progress) {
-      std::cerr << "\riteration " << iteration << ": largest change " << change << "   " << std::flush;
-    }
-  });
-  if (progress && !verbose) std::cerr << "\n";
-  const double seconds_solve = seconds_since(t_solve);
-  const ClassicalStats& stats = solver.stats();
-  if (stats.link_budget_reached && !quiet) {
-    std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
-  }
-
-  const auto t_output = Clock::now();
-  std::vector<SurfaceSolution> surfaces(model.num_surfaces());
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
-    surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
-  }
+  // The tone map shapes the linear method's receiver oracle (paper §4.1) as
+  // well as the images and vertex colours.
   ToneMapChoice tone;
   // A flag given on the command line wins; else the scene file; else the flag's default.
   const ToneMapSettings& file_tone = scene.settings.tone_map;
@@ -165,6 +175,96 @@ int run_solve(const Args& args) {
     throw po::error("tone map: --units-to-cd, --display-max and --gamma must be positive, --max-contrast above 1, "
                     "--adaptation and --white zero or positive");
   }
+
+  const auto report = [&](int iteration, double change) {
+    if (verbose) {
+      std::cerr << "iteration " << iteration << ": largest change " << change << "\n";
+    } else if (progress) {
+      std::cerr << "\riteration " << iteration << ": largest change " << change << "   " << std::flush;
+    }
+  };
+  std::vector<SurfaceSolution> surfaces(model.num_surfaces());
+  nlohmann::json solver_stats, solver_seconds, parameters;
+  bool budget_reached = false;
+  std::size_t elements = 0, links = 0;
+  int iterations = 0;
+  const auto t_solve = Clock::now();
+  if (method == "linear") {
+    // Importance and the oracle's adaptation come from what the camera sees.
+    std::vector<const TriMesh*> initial;
+    for (int s = 0; s < model.num_surfaces(); ++s) initial.push_back(&model.hierarchy(s).mesh());
+    const PixelHits hits = trace_pixels(camera, initial);
+    for (const PixelHits::Hit& h : hits.pixels) {
+      if (h.surface >= 0) linear.view.push_back({h.surface, h.face, h.u, h.v});
+    }
+    linear.tone_map = [&tone](double log_average, double brightest) {
+      return make_tone_map(tone, log_average, brightest);
+    };
+    LinearSolver solver(model, linear);
+    solver.solve(report);
+    for (int s = 0; s < model.num_surfaces(); ++s) {
+      surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
+      surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
+    }
+    const LinearStats& st = solver.stats();
+    budget_reached = st.link_budget_reached;
+    elements = st.leaves;
+    links = st.links;
+    iterations = st.iterations;
+    parameters = {{"eps_pixel", linear.eps_pixel},
+                  {"eps_link", linear.eps_link},
+                  {"vis_threshold", linear.vis_threshold},
+                  {"link_power", linear.link_power}};
+    const std::size_t graph_bytes = st.bytes_graphs + st.bytes_links;
+    const std::size_t other_bytes = st.bytes_geometry + st.bytes_hierarchy + st.bytes_values;
+    solver_stats = {{"nodes", st.nodes},
+                    {"graphs", st.graphs},
+                    {"graph_vertices", st.graph_vertices},
+                    {"elements_per_level", st.leaves_per_level},
+                    {"receiver_splits", st.receiver_splits},
+                    {"shooter_refinements", st.shooter_refinements},
+                    {"final_change", st.final_change},
+                    {"shadow_rays", st.shadow_rays},
+                    {"oracle_adaptation", st.world_adaptation},
+                    {"bytes",
+                     {{"geometry", st.bytes_geometry},
+                      {"hierarchy", st.bytes_hierarchy},
+                      {"vertex_values", st.bytes_values},
+                      {"graphs", st.bytes_graphs},
+                      {"links", st.bytes_links},
+                      // Paper §5 reports graphs ≈ 30 % over the links and geometry they organise.
+                      {"graph_overhead", other_bytes + st.bytes_links > 0
+                                             ? static_cast<double>(st.bytes_graphs) /
+                                                   static_cast<double>(other_bytes + st.bytes_links)
+                                             : 0.0},
+                      {"total", graph_bytes + other_bytes}}}};
+    solver_seconds = {{"linking", st.seconds_linking},       {"coefficients", st.seconds_coefficients},
+                      {"gather", st.seconds_gather},         {"push_pull", st.seconds_push_pull},
+                      {"oracles", st.seconds_oracles},       {"importance", st.seconds_importance}};
+  } else {
+    ClassicalSolver solver(model, classical);
+    solver.solve(report);
+    for (int s = 0; s < model.num_surfaces(); ++s) {
+      surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
+      surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
+    }
+    const ClassicalStats& st = solver.stats();
+    budget_reached = st.link_budget_reached;
+    elements = st.leaves;
+    links = st.links;
+    iterations = st.iterations;
+    parameters = {{"eps_bf", classical.eps_bf}};
+    solver_stats = {{"nodes", st.nodes}, {"final_change", st.final_change}, {"shadow_rays", st.shadow_rays}};
+    solver_seconds = {{"refine", st.seconds_refine},
+                      {"coefficients", st.seconds_coefficients},
+                      {"gather", st.seconds_gather},
+                      {"push_pull", st.seconds_push_pull}};
+  }
+  if (progress && !verbose) std::cerr << "\n";
+  const double seconds_solve = seconds_since(t_solve);
+  if (budget_reached && !quiet) std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
+
+  const auto t_output = Clock::now();
   const SolutionView view = make_solution_view(surfaces, camera, tone);
   write_mesh(out_dir / "mesh.ply", view.export_mesh);
   write_mesh(out_dir / "mesh.off", view.export_mesh);
@@ -174,49 +274,44 @@ int run_solve(const Args& args) {
 
   nlohmann::json doc;
   doc["scene"] = scene.source;
-  doc["method"] = "classical";
-  doc["parameters"] = {{"max_edge", meshing.max_edge},
-                       {"min_angle_deg", meshing.min_angle_deg},
-                       {"eps_bf", options.eps_bf},
-                       {"min_edge", options.min_edge > 0 ? options.min_edge : meshing.max_edge / 32.0},
-                       {"max_iterations", options.max_iterations},
-                       {"tolerance", options.tolerance},
-                       {"max_links", options.max_links},
-                       {"visibility_samples", options.visibility_samples},
-                       {"tone_map", view.tone_map->describe()},
-                       {"camera",
-                        {{"eye", {camera.eye[0], camera.eye[1], camera.eye[2]}},
-                         {"target", {camera.target[0], camera.target[1], camera.target[2]}},
-                         {"up", {camera.up[0], camera.up[1], camera.up[2]}},
-                         {"fov_y_deg", camera.fov_y_deg},
-                         {"width", camera.width},
-                         {"height", camera.height}}}};
+  doc["method"] = method;
+  parameters.update({{"max_edge", meshing.max_edge},
+                     {"min_angle_deg", meshing.min_angle_deg},
+                     {"min_edge", min_edge > 0 ? min_edge : meshing.max_edge / 32.0},
+                     {"max_iterations", max_iterations},
+                     {"tolerance", tolerance},
+                     {"max_links", max_links},
+                     {"visibility_samples", visibility_samples},
+                     {"tone_map", view.tone_map->describe()},
+                     {"camera",
+                      {{"eye", {camera.eye[0], camera.eye[1], camera.eye[2]}},
+                       {"target", {camera.target[0], camera.target[1], camera.target[2]}},
+                       {"up", {camera.up[0], camera.up[1], camera.up[2]}},
+                       {"fov_y_deg", camera.fov_y_deg},
+                       {"width", camera.width},
+                       {"height", camera.height}}}});
+  doc["parameters"] = parameters;
   doc["surfaces"] = model.num_surfaces();
-  doc["elements"] = stats.leaves;
-  doc["nodes"] = stats.nodes;
-  doc["links"] = stats.links;
-  doc["iterations"] = stats.iterations;
-  doc["final_change"] = stats.final_change;
-  doc["shadow_rays"] = stats.shadow_rays;
-  doc["link_budget_reached"] = stats.link_budget_reached;
+  doc["elements"] = elements;
+  doc["links"] = links;
+  doc["iterations"] = iterations;
+  doc["link_budget_reached"] = budget_reached;
+  doc.update(solver_stats);
   doc["exported_vertices"] = view.export_mesh.points.size();
   doc["exported_triangles"] = view.export_mesh.triangles.size();
   doc["world_adaptation"] = view.world_adaptation;
   // Timings and memory vary from run to run; everything above does not.
-  doc["seconds"] = {{"meshing", seconds_meshing},
-                    {"refine", stats.seconds_refine},
-                    {"coefficients", stats.seconds_coefficients},
-                    {"gather", stats.seconds_gather},
-                    {"push_pull", stats.seconds_push_pull},
-                    {"solve", seconds_solve},
-                    {"output", seconds_output},
-                    {"total", seconds_since(t_start)}};
+  solver_seconds.update({{"meshing", seconds_meshing},
+                         {"solve", seconds_solve},
+                         {"output", seconds_output},
+                         {"total", seconds_since(t_start)}});
+  doc["seconds"] = solver_seconds;
   doc["peak_memory_mib"] = peak_rss_mib();
   write_json_file(out_dir / "stats.json", doc);
 
   if (!quiet) {
-    std::cerr << "lhr solve: " << model.num_surfaces() << " surfaces, " << stats.leaves << " elements, "
-              << stats.links << " links, " << stats.iterations << " iterations, " << seconds_since(t_start)
+    std::cerr << "lhr solve: " << method << ", " << model.num_surfaces() << " surfaces, " << elements
+              << " elements, " << links << " links, " << iterations << " iterations, " << seconds_since(t_start)
               << " s -> " << out_dir.string() << "\n";
   }
   return kExitOk;

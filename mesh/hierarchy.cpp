@@ -537,4 +537,20 @@ std::vector<Violation> check_hierarchy(const SurfaceHierarchy& h) {
   return out;
 }
 
+std::size_t SurfaceHierarchy::geometry_bytes() const {
+  // OpenMesh stores a point and an outgoing half-edge per vertex, four
+  // handles per half-edge (vertex, face, next, prev) and one per face.
+  return mesh_.n_vertices() * (sizeof(Vec3) + sizeof(int)) + mesh_.n_halfedges() * 4 * sizeof(int) +
+         mesh_.n_faces() * sizeof(int);
+}
+
+std::size_t SurfaceHierarchy::hierarchy_bytes() const {
+  // Hash nodes of the midpoint table: key, value and a next pointer; one
+  // pointer per bucket.
+  const std::size_t midpoint_table = midpoints_.size() * (sizeof(std::uint64_t) + sizeof(VertexId) + sizeof(void*)) +
+                                     midpoints_.bucket_count() * sizeof(void*);
+  return nodes_.capacity() * sizeof(Node) + vertex_level_.capacity() * sizeof(std::int32_t) +
+         t_vertex_.capacity() + midpoint_table;
+}
+
 }  // namespace lhr

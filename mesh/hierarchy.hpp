@@ -122,6 +122,11 @@ class SurfaceHierarchy {
   // increasing id order. An unsplit hierarchy exports the initial faces.
   ConformingMesh conforming_mesh() const;
 
+  // Memory held, in bytes: vertex positions and the OpenMesh connectivity of
+  // the initial triangulation; the quadtree nodes and per-vertex bookkeeping.
+  std::size_t geometry_bytes() const;
+  std::size_t hierarchy_bytes() const;
+
  private:
   struct Node {
     std::array<VertexId, 3> corners;

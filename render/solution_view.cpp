@@ -21,6 +21,21 @@ double log_average_luminance(const Image& radiance, const std::vector<std::uint8
   return count ? std::exp(sum / static_cast<double>(count)) : 0.0;
 }
 
+std::unique_ptr<ToneMap> make_tone_map(const ToneMapChoice& tone, double log_average, double brightest) {
+  if (tone.kind == ToneMapChoice::Kind::kLinear) {
+    const double white = tone.linear_white > 0 ? tone.linear_white : brightest;
+    return std::make_unique<LinearToneMap>(white > 0 ? white : 1.0, tone.gamma);
+  }
+  TumblinRushmeierParams p;
+  p.world_adaptation = tone.world_adaptation > 0 ? tone.world_adaptation : log_average;
+  if (!(p.world_adaptation > 0)) p.world_adaptation = 1.0;  // a black view: any adaptation shows black
+  p.units_to_cd_m2 = tone.units_to_cd_m2;
+  p.display_max_cd_m2 = tone.display_max_cd_m2;
+  p.max_contrast = tone.max_contrast;
+  p.gamma = tone.gamma;
+  return std::make_unique<TumblinRushmeierToneMap>(p);
+}
+
 SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, const Camera& camera,
                                 const ToneMapChoice& tone) {
   SolutionView view;
@@ -34,27 +49,16 @@ SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, co
   view.hit_mask = hits.mask();
   view.radiance_image = shade_gouraud(hits, meshes, radiance_sets);
 
-  if (tone.kind == ToneMapChoice::Kind::kLinear) {
-    double white = tone.linear_white;
-    if (!(white > 0)) {
-      for (std::size_t i = 0; i < view.hit_mask.size(); ++i) {
-        if (!view.hit_mask[i]) continue;
-        const float* p = &view.radiance_image.rgb[3 * i];
-        white = std::max(white, luminance(Rgb(p[0], p[1], p[2])));
-      }
-    }
-    view.tone_map = std::make_unique<LinearToneMap>(white > 0 ? white : 1.0, tone.gamma);
-  } else {
-    TumblinRushmeierParams p;
-    p.world_adaptation = tone.world_adaptation > 0 ? tone.world_adaptation
-                                                   : log_average_luminance(view.radiance_image, view.hit_mask);
-    if (!(p.world_adaptation > 0)) p.world_adaptation = 1.0;  // a black view: any adaptation shows black
-    p.units_to_cd_m2 = tone.units_to_cd_m2;
-    p.display_max_cd_m2 = tone.display_max_cd_m2;
-    p.max_contrast = tone.max_contrast;
-    p.gamma = tone.gamma;
-    view.world_adaptation = p.world_adaptation;
-    view.tone_map = std::make_unique<TumblinRushmeierToneMap>(p);
+  double brightest = 0.0;
+  for (std::size_t i = 0; i < view.hit_mask.size(); ++i) {
+    if (!view.hit_mask[i]) continue;
+    const float* p = &view.radiance_image.rgb[3 * i];
+    brightest = std::max(brightest, luminance(Rgb(p[0], p[1], p[2])));
+  }
+  const double seen = log_average_luminance(view.radiance_image, view.hit_mask);
+  view.tone_map = make_tone_map(tone, seen, brightest);
+  if (tone.kind == ToneMapChoice::Kind::kTumblinRushmeier) {
+    view.world_adaptation = tone.world_adaptation > 0 ? tone.world_adaptation : (seen > 0 ? seen : 1.0);
   }
 
   std::vector<std::vector<Rgb>> display(surfaces.size());

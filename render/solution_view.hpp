@@ -41,6 +41,11 @@ struct SolutionView {
 // exp(mean(log(δ + L))) over the pixels where a surface is seen.
 double log_average_luminance(const Image& radiance, const std::vector<std::uint8_t>& mask);
 
+// The tone map a choice stands for, given what the camera sees: the
+// log-average luminance (TR adaptation default) and the brightest luminance
+// (linear white default).
+std::unique_ptr<ToneMap> make_tone_map(const ToneMapChoice& tone, double log_average, double brightest);
+
 SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, const Camera& camera,
                                 const ToneMapChoice& tone);
 

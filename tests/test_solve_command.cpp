@@ -13,11 +13,14 @@
 namespace lhr {
 namespace {
 
-// A quick Cornell box: coarse initial mesh, coarse ε_BF.
-std::vector<std::string> quick_cornell(const std::string& out, int threads) {
+// A quick Cornell box: coarse initial mesh, coarse thresholds.
+std::vector<std::string> quick_cornell(const std::string& out, int threads, const std::string& method) {
   return {"solve", (test::source_dir() / "data/cornell/cornell.scene.json").string(), "--out", out,
-          "--max-edge", "140", "--eps-bf", "0.02", "--threads", std::to_string(threads), "--quiet"};
+          "--method", method, "--max-edge", "140", "--eps-bf", "0.02", "--eps-link", "40",
+          "--threads", std::to_string(threads), "--quiet"};
 }
+
+const char* const kMethods[] = {"linear", "classical"};
 
 nlohmann::json without_timings(nlohmann::json stats) {
   stats.erase("seconds");
@@ -26,49 +29,75 @@ nlohmann::json without_timings(nlohmann::json stats) {
 }
 
 TEST(SolveCommand, WritesTheFiveOutputsWithTheirContracts) {
-  const auto dir = test::fresh_dir("solve_outputs");
-  const auto r = test::run_lhr(quick_cornell((dir / "c").string(), 0));
+  for (const std::string method : kMethods) {
+    SCOPED_TRACE(method);
+    const auto dir = test::fresh_dir("solve_outputs_" + method);
+    const auto r = test::run_lhr(quick_cornell((dir / "c").string(), 0, method));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* name : {"mesh.ply", "mesh.off", "image.png", "image.exr", "stats.json"}) {
+      EXPECT_TRUE(std::filesystem::exists(dir / "c" / name)) << name;
+    }
+    // The exported mesh is conforming and carries finite, non-negative radiance.
+    const RawMesh mesh = read_raw_mesh(dir / "c" / "mesh.ply");
+    ASSERT_EQ(mesh.radiance.size(), mesh.points.size());
+    ConformingCheckOptions check;
+    check.relative_tolerance = 1e-6;  // coordinates went through float storage
+    const auto violations = check_conforming_mesh(mesh, check);
+    EXPECT_TRUE(violations.empty()) << (violations.empty() ? "" : format_violation(violations.front()));
+    const std::string header = test::read_text(dir / "c" / "mesh.ply").substr(0, 400);
+    for (const char* property : {"property uchar red", "property uchar green", "property uchar blue",
+                                 "property float radiance_r", "property float radiance_g",
+                                 "property float radiance_b"}) {
+      EXPECT_NE(header.find(property), std::string::npos) << property;
+    }
+    // The light is seen: the brightest pixel is the light's radiance (Ke 17 12 4)
+    // plus the little it reflects (Kd 0.78 of the dim room around it).
+    const Image exr = read_image(dir / "c" / "image.exr");
+    float brightest = 0;
+    for (float v : exr.rgb) brightest = std::max(brightest, v);
+    EXPECT_GE(brightest, 17.0f - 0.02f);
+    EXPECT_LT(brightest, 17.5f);
+    const auto stats = nlohmann::json::parse(test::read_text(dir / "c" / "stats.json"));
+    EXPECT_EQ(stats["method"], method);
+    EXPECT_GT(stats["links"].get<long>(), 0);
+    EXPECT_EQ(stats["exported_triangles"].get<std::size_t>(), mesh.faces.size());
+  }
+}
+
+TEST(SolveCommand, TheLinearMethodIsTheDefault) {
+  const auto dir = test::fresh_dir("solve_default");
+  const auto r = test::run_lhr({"solve", (test::source_dir() / "data/cornell/cornell.scene.json").string(), "--out",
+                                (dir / "d").string(), "--max-edge", "140", "--eps-link", "40", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* name : {"mesh.ply", "mesh.off", "image.png", "image.exr", "stats.json"}) {
-    EXPECT_TRUE(std::filesystem::exists(dir / "c" / name)) << name;
+  const auto stats = nlohmann::json::parse(test::read_text(dir / "d" / "stats.json"));
+  EXPECT_EQ(stats["method"], "linear");
+  for (const char* key : {"graphs", "graph_vertices", "elements_per_level", "bytes"}) {
+    EXPECT_TRUE(stats.contains(key)) << key;
   }
-  // The exported mesh is conforming and carries finite, non-negative radiance.
-  const RawMesh mesh = read_raw_mesh(dir / "c" / "mesh.ply");
-  ASSERT_EQ(mesh.radiance.size(), mesh.points.size());
-  ConformingCheckOptions check;
-  check.relative_tolerance = 1e-6;  // coordinates went through float storage
-  const auto violations = check_conforming_mesh(mesh, check);
-  EXPECT_TRUE(violations.empty()) << (violations.empty() ? "" : format_violation(violations.front()));
-  const std::string header = test::read_text(dir / "c" / "mesh.ply").substr(0, 400);
-  for (const char* property : {"property uchar red", "property uchar green", "property uchar blue",
-                               "property float radiance_r", "property float radiance_g", "property float radiance_b"}) {
-    EXPECT_NE(header.find(property), std::string::npos) << property;
+  for (const char* phase : {"coefficients", "gather", "push_pull", "oracles"}) {
+    EXPECT_TRUE(stats["seconds"].contains(phase)) << phase;
   }
-  // The light is seen: the brightest pixel is the light's radiance (Ke 17 12 4)
-  // plus the little it reflects (Kd 0.78 of the dim room around it).
-  const Image exr = read_image(dir / "c" / "image.exr");
-  float brightest = 0;
-  for (float v : exr.rgb) brightest = std::max(brightest, v);
-  EXPECT_GE(brightest, 17.0f - 0.02f);
-  EXPECT_LT(brightest, 17.5f);
-  const auto stats = nlohmann::json::parse(test::read_text(dir / "c" / "stats.json"));
-  EXPECT_EQ(stats["method"], "classical");
-  EXPECT_GT(stats["links"].get<long>(), 0);
-  EXPECT_EQ(stats["exported_triangles"].get<std::size_t>(), mesh.faces.size());
+  const auto unknown = test::run_lhr({"solve", (test::source_dir() / "data/cornell/cornell.scene.json").string(),
+                                      "--out", (dir / "u").string(), "--method", "galerkin"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--method"), std::string::npos) << unknown.err;
 }
 
 TEST(SolveCommand, ThreadCountDoesNotChangeTheResult) {
-  const auto dir = test::fresh_dir("solve_threads");
-  const auto one = test::run_lhr(quick_cornell((dir / "t1").string(), 1));
-  const auto two = test::run_lhr(quick_cornell((dir / "t2").string(), 2));
-  ASSERT_EQ(one.exit_code, 0) << one.err;
-  ASSERT_EQ(two.exit_code, 0) << two.err;
-  EXPECT_EQ(without_timings(nlohmann::json::parse(test::read_text(dir / "t1" / "stats.json"))),
-            without_timings(nlohmann::json::parse(test::read_text(dir / "t2" / "stats.json"))));
-  // Pixels bit for bit (the EXR header carries a capture date).
-  EXPECT_TRUE(read_image(dir / "t1" / "image.exr").rgb == read_image(dir / "t2" / "image.exr").rgb);
-  EXPECT_TRUE(test::read_text(dir / "t1" / "mesh.ply") == test::read_text(dir / "t2" / "mesh.ply"));
-  EXPECT_TRUE(test::read_text(dir / "t1" / "image.png") == test::read_text(dir / "t2" / "image.png"));
+  for (const std::string method : kMethods) {
+    SCOPED_TRACE(method);
+    const auto dir = test::fresh_dir("solve_threads_" + method);
+    const auto one = test::run_lhr(quick_cornell((dir / "t1").string(), 1, method));
+    const auto two = test::run_lhr(quick_cornell((dir / "t2").string(), 2, method));
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(without_timings(nlohmann::json::parse(test::read_text(dir / "t1" / "stats.json"))),
+              without_timings(nlohmann::json::parse(test::read_text(dir / "t2" / "stats.json"))));
+    // Pixels bit for bit (the EXR header carries a capture date).
+    EXPECT_TRUE(read_image(dir / "t1" / "image.exr").rgb == read_image(dir / "t2" / "image.exr").rgb);
+    EXPECT_TRUE(test::read_text(dir / "t1" / "mesh.ply") == test::read_text(dir / "t2" / "mesh.ply"));
+    EXPECT_TRUE(test::read_text(dir / "t1" / "image.png") == test::read_text(dir / "t2" / "image.png"));
+  }
 }
 
 TEST(SolveCommand, BadInputFailsInOneLineAndWritesNothing) {

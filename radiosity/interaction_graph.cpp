@@ -1,0 +1,98 @@
+#include "radiosity/interaction_graph.hpp"
+
+#include <stdexcept>
+
+namespace lhr {
+
+InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, const SurfaceHierarchy& receiver)
+    : shooter_(shooter_surface), receiver_(receiver_surface) {
+  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
+    set_state(receiver.root(static_cast<int>(f)), NodeState::kLeaf);
+    for (VertexId v : receiver.corners(receiver.root(static_cast<int>(f)))) {
+      if (index_of(v) < 0) add_vertex(v);
+    }
+  }
+}
+
+void InteractionGraph::set_state(NodeId n, NodeState s) {
+  if (static_cast<std::size_t>(n) >= state_.size()) state_.resize(static_cast<std::size_t>(n) + 1, 0);
+  if (static_cast<NodeState>(state_[n]) == NodeState::kLeaf) --num_leaves_;
+  if (s == NodeState::kLeaf) ++num_leaves_;
+  state_[n] = static_cast<std::uint8_t>(s);
+}
+
+int InteractionGraph::add_vertex(VertexId v) {
+  const int i = static_cast<int>(vertices_.size());
+  vertices_.push_back(v);
+  index_.emplace(v, i);
+  links_.emplace_back();
+  gathered_.emplace_back(0, 0, 0);
+  return i;
+}
+
+std::vector<NodeId> InteractionGraph::leaves() const {
+  std::vector<NodeId> out;
+  out.reserve(num_leaves_);
+  for (std::size_t n = 0; n < state_.size(); ++n) {
+    if (static_cast<NodeState>(state_[n]) == NodeState::kLeaf) out.push_back(static_cast<NodeId>(n));
+  }
+  return out;
+}
+
+NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const {
+  for (NodeId a = n; a != kNoNode; a = receiver.parent(a)) {
+    const NodeState s = state(a);
+    if (s == NodeState::kLeaf) return a;
+    if (s == NodeState::kInterior) return kNoNode;
+  }
+  return kNoNode;
+}
+
+bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created) {
+  if (state(n) != NodeState::kLeaf) return false;
+  if (receiver.is_leaf(n)) receiver.split(n);
+  // R is restricted, so n now has a same-level neighbour across every inner
+  // edge; a graph leaf coarser than n across an edge would end up two levels
+  // above n's children: split it first (the graph cut stays restricted).
+  for (int k = 0; k < 3; ++k) {
+    const NodeId across = receiver.neighbor(n, k);
+    if (across == kNoNode) continue;
+    const NodeId coarse = leaf_containing(across, receiver);
+    if (coarse != kNoNode && coarse != across) split(coarse, receiver, created);
+  }
+  set_state(n, NodeState::kInterior);
+  for (int c = 0; c < 4; ++c) set_state(receiver.child(n, c), NodeState::kLeaf);
+  // The centre child's corner k is the midpoint of n's edge (k+1, k+2).
+  const auto& parent = receiver.corners(n);
+  const auto& centre = receiver.corners(receiver.child(n, 3));
+  for (int k = 0; k < 3; ++k) {
+    const VertexId m = centre[k];
+    if (index_of(m) >= 0) continue;
+    const int seed = index_of(parent[(k + 1) % 3]);
+    if (seed < 0) throw std::logic_error("InteractionGraph::split: a graph leaf's corner is not a graph vertex");
+    created.push_back({add_vertex(m), seed});
+  }
+  return true;
+}
+
+std::size_t InteractionGraph::num_links() const {
+  std::size_t n = 0;
+  for (const auto& l : links_) n += l.size();
+  return n;
+}
+
+std::size_t InteractionGraph::link_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& l : links_) bytes += l.capacity() * sizeof(GraphLink);
+  return bytes;
+}
+
+std::size_t InteractionGraph::bytes() const {
+  // Hash nodes hold a key, a value and a next pointer; buckets one pointer.
+  const std::size_t table = index_.size() * (sizeof(VertexId) + sizeof(int) + sizeof(void*)) +
+                            index_.bucket_count() * sizeof(void*);
+  return sizeof(*this) + state_.capacity() + vertices_.capacity() * sizeof(VertexId) + table +
+         links_.capacity() * sizeof(std::vector<GraphLink>) + gathered_.capacity() * sizeof(Rgb);
+}
+
+}  // namespace lhr

@@ -1,0 +1,94 @@
+#pragma once
+// Interaction graph (paper §5, DESIGN §4): what one shooter surface S gives one
+// receiver surface R. Its leaves are a restricted quadtree cut of R's
+// hierarchy (the levels where S contributes); its vertices are the corners of
+// those leaves, each with the links from S's elements and S's contribution
+// there. The graph owns no geometry: node and vertex ids are R's.
+
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "mesh/hierarchy.hpp"
+#include "radiosity/transport.hpp"
+
+namespace lhr {
+
+// Shooter element: a node of S's quadtree (linear basis, three coefficients),
+// or ≤ kWholeSurface: root cluster −(shooter+2) of S (constant basis, f[0]).
+constexpr NodeId kWholeSurface = -2;
+inline bool is_cluster_element(NodeId e) { return e <= kWholeSurface; }
+inline int cluster_index(NodeId e) { return -(e + 2); }
+inline NodeId cluster_element(int cluster) { return -(cluster + 2); }
+
+struct GraphLink {
+  NodeId shooter;
+  TransportCoefficients coefficients;
+};
+
+class InteractionGraph {
+ public:
+  enum class NodeState : std::uint8_t { kOutside = 0, kLeaf = 1, kInterior = 2 };
+
+  // The graph starts on R's roots, every initial vertex a graph vertex (the
+  // minimum density of paper §4.1).
+  InteractionGraph(int shooter_surface, int receiver_surface, const SurfaceHierarchy& receiver);
+
+  int shooter_surface() const { return shooter_; }
+  int receiver_surface() const { return receiver_; }
+
+  NodeState state(NodeId n) const {
+    return static_cast<std::size_t>(n) < state_.size() ? static_cast<NodeState>(state_[n]) : NodeState::kOutside;
+  }
+  // Graph leaves in increasing id order.
+  std::vector<NodeId> leaves() const;
+  std::size_t num_leaves() const { return num_leaves_; }
+
+  std::size_t num_vertices() const { return vertices_.size(); }
+  VertexId vertex(int i) const { return vertices_[i]; }
+  // Index of R's vertex v in this graph, or -1.
+  int index_of(VertexId v) const {
+    const auto it = index_.find(v);
+    return it == index_.end() ? -1 : it->second;
+  }
+  std::vector<GraphLink>& links(int i) { return links_[i]; }
+  const std::vector<GraphLink>& links(int i) const { return links_[i]; }
+  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l.
+  Rgb& gathered(int i) { return gathered_[i]; }
+  const Rgb& gathered(int i) const { return gathered_[i]; }
+
+  // A new vertex and the vertex whose shooter elements it starts from.
+  struct NewVertex {
+    int index;
+    int seed;
+  };
+  // Splits graph leaf n, and first any coarser graph leaf across its edges so
+  // the cut stays restricted; splits R's hierarchy where it is still a leaf.
+  // New graph vertices (edge midpoints) are appended to `created`, each
+  // seeded by an end point of its edge. Returns false if n is not a graph leaf.
+  bool split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created);
+
+  std::size_t num_links() const;
+  // Bytes of this graph's own storage: node states, vertex table, links.
+  std::size_t bytes() const;
+  std::size_t link_bytes() const;
+
+ private:
+  void set_state(NodeId n, NodeState s);
+  int add_vertex(VertexId v);
+  // The graph leaf containing node n (n or an ancestor), or kNoNode if n is
+  // above the cut.
+  NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
+
+  int shooter_;
+  int receiver_;
+  std::vector<std::uint8_t> state_;  // per R node
+  std::size_t num_leaves_ = 0;
+  std::vector<VertexId> vertices_;
+  std::unordered_map<VertexId, int> index_;
+  std::vector<std::vector<GraphLink>> links_;
+  std::vector<Rgb> gathered_;
+};
+
+}  // namespace lhr

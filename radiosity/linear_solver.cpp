@@ -1,0 +1,620 @@
+#include "radiosity/linear_solver.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "radiosity/sampling.hpp"
+
+namespace lhr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Shooter-oracle passes per iteration: each pass opens links one level deeper.
+constexpr int kMaxShooterPasses = 24;
+// Without a camera every surface is seen face-on, this many pixels in all,
+// shared in proportion to area.
+constexpr double kDefaultViewPixels = 512.0 * 512.0;
+
+// Whether a planar surface has a point strictly in front of the other's plane.
+bool some_point_in_front(const Surface& a, const Surface& b, double eps) {
+  if (!b.planar) return true;
+  const Vec3& origin = b.points.front();
+  return std::any_of(a.points.begin(), a.points.end(),
+                     [&](const Vec3& p) { return OpenMesh::dot(b.normal, p - origin) > eps; });
+}
+
+// Barycentric coordinates of p (in the triangle's plane) in t.
+std::array<double, 3> barycentric(const Vec3& p, const std::array<Vec3, 3>& t) {
+  const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0], d = p - t[0];
+  const double a = OpenMesh::dot(e1, e1), b = OpenMesh::dot(e1, e2), c = OpenMesh::dot(e2, e2);
+  const double p1 = OpenMesh::dot(d, e1), p2 = OpenMesh::dot(d, e2);
+  const double det = a * c - b * b;
+  if (!(det > 0)) return {1.0, 0.0, 0.0};
+  const double u = (c * p1 - b * p2) / det, v = (a * p2 - b * p1) / det;
+  return {1.0 - u - v, u, v};
+}
+
+double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }
+
+}  // namespace
+
+LinearSolver::LinearSolver(SceneModel& model, LinearOptions options) : model_(model), options_(std::move(options)) {
+  if (!options_.tone_map) {
+    options_.tone_map = [](double adaptation, double) {
+      TumblinRushmeierParams p;
+      p.world_adaptation = adaptation;
+      return std::make_unique<TumblinRushmeierToneMap>(p);
+    };
+  }
+  const double min_edge = options_.min_edge > 0 ? options_.min_edge : model_.max_edge() / 32.0;
+  min_area_ = std::sqrt(3.0) / 4.0 * min_edge * min_edge;
+  surfaces_.resize(model_.num_surfaces());
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    const Material& m = model_.material(s);
+    max_emitted_ = std::max(max_emitted_, luminance(m.emission));
+    total_emitted_power_ += M_PI * model_.surface_area(s) * luminance(m.emission);
+    SurfaceState& st = surfaces_[s];
+    st.clusters = build_root_clusters(model_, s);
+    st.cluster_radiance.assign(st.clusters.size(), m.emission);
+    sync_vertices(s);
+  }
+}
+
+void LinearSolver::sync_vertices(int s) {
+  SurfaceState& st = surfaces_[s];
+  const SurfaceHierarchy& h = model_.hierarchy(s);
+  const std::size_t old_vertices = st.radiance.size();
+  const std::size_t nv = h.num_vertices();
+  st.parents.resize(nv, {kNoVertex, kNoVertex});
+  st.approach.resize(nv, Vec3(0, 0, 0));
+  st.radiance.resize(nv, model_.material(s).emission);
+  // A node at a surface's boundary or crease has no value of its own on a
+  // shooter's plane: it takes the limit from inside the first element that
+  // made it (DESIGN §4, corners). Roots first, then each split's centre child,
+  // whose corners are the split's edge midpoints.
+  const auto set_approach = [&](VertexId v, NodeId from) {
+    if (st.approach[v].sqrnorm() > 0) return;
+    const Vec3 d = model_.centroid(s, from) - h.point(v);
+    st.approach[v] = d.norm() > 0 ? d / d.norm() : Vec3(0, 0, 0);
+  };
+  for (NodeId n = static_cast<NodeId>(st.synced_nodes); n < static_cast<NodeId>(h.num_nodes()); ++n) {
+    const NodeId parent = h.parent(n);
+    if (parent == kNoNode) {
+      for (VertexId v : h.corners(n)) set_approach(v, n);
+    } else if (h.child_index(n) == 3) {
+      const auto& p = h.corners(parent);
+      const auto& c = h.corners(n);
+      for (int k = 0; k < 3; ++k) {
+        if (st.parents[c[k]][0] == kNoVertex) st.parents[c[k]] = {p[(k + 1) % 3], p[(k + 2) % 3]};
+        set_approach(c[k], n);
+      }
+    }
+  }
+  st.synced_nodes = h.num_nodes();
+  // A new vertex starts at the linear interpolant of its edge until the next
+  // push gives it its own value.
+  for (std::size_t v = old_vertices; v < nv; ++v) {
+    const auto& [a, b] = st.parents[v];
+    if (a != kNoVertex) st.radiance[v] = 0.5 * (st.radiance[a] + st.radiance[b]);
+  }
+}
+
+bool LinearSolver::splittable(int s, NodeId e) const {
+  if (is_cluster_element(e)) return true;
+  return model_.hierarchy(s).level(e) < SurfaceHierarchy::kMaxLevel && model_.area(s, e) > 4.0 * min_area_;
+}
+
+std::vector<NodeId> LinearSolver::children(int s, NodeId e) {
+  std::vector<NodeId> out;
+  if (is_cluster_element(e)) {
+    const RootCluster& c = surfaces_[s].clusters[cluster_index(e)];
+    if (c.first_child >= 0) {
+      out = {cluster_element(c.first_child), cluster_element(c.first_child + 1)};
+    } else {
+      out = c.roots;
+    }
+    return out;
+  }
+  SurfaceHierarchy& h = model_.hierarchy(s);
+  if (h.is_leaf(e)) {
+    h.split(e);
+    sync_vertices(s);
+  }
+  for (int c = 0; c < 4; ++c) out.push_back(h.child(e, c));
+  return out;
+}
+
+Rgb LinearSolver::shooter_value(int s, NodeId e, int l) const {
+  const SurfaceState& st = surfaces_[s];
+  if (is_cluster_element(e)) return l == 0 ? st.cluster_radiance[cluster_index(e)] : Rgb(0, 0, 0);
+  return st.radiance[model_.hierarchy(s).corners(e)[l]];
+}
+
+bool LinearSolver::link_new_shooters() {
+  const auto start = Clock::now();
+  const Scene& scene = model_.scene();
+  const double eps = 1e-9 * model_.rays().diagonal();
+  std::vector<PendingLink> pending;
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    SurfaceState& st = surfaces_[s];
+    const double power = M_PI * model_.surface_area(s) * luminance(st.cluster_radiance[0]);
+    if (st.shooting || !(power > 0) || power < options_.link_power * total_emitted_power_) continue;
+    st.shooting = true;
+    for (int r = 0; r < model_.num_surfaces(); ++r) {
+      // A planar surface does not light itself; curved self-transfer is left
+      // to the other surfaces' links (documented limit). A black receiver
+      // reflects nothing.
+      if (r == s || !(max_channel(model_.material(r).reflectance) > 0)) continue;
+      if (!some_point_in_front(scene.surfaces[s], scene.surfaces[r], eps) ||
+          !some_point_in_front(scene.surfaces[r], scene.surfaces[s], eps)) {
+        continue;
+      }
+      const int g = static_cast<int>(graphs_.size());
+      graphs_.emplace_back(s, r, model_.hierarchy(r));
+      surfaces_[r].graphs_in.push_back(g);
+      InteractionGraph& graph = graphs_.back();
+      for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) {
+        graph.links(i).push_back({kWholeSurface, {}});
+        pending.push_back({g, i, 0});
+      }
+    }
+  }
+  links_now_ += pending.size();
+  stats_.seconds_linking += seconds_since(start);
+  compute_coefficients(pending);
+  return !pending.empty();
+}
+
+TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
+                                                 std::uint64_t& rays) const {
+  const int r = g.receiver_surface(), s = g.shooter_surface();
+  const VertexId v = g.vertex(vertex);
+  const SurfaceState& st = surfaces_[r];
+  const Surface& surface = model_.scene().surfaces[r];
+  ReceiverPoint point;
+  point.x = model_.hierarchy(r).point(v);
+  point.approach = st.approach[v];
+  // Planar surfaces have one normal; a curved one takes its vertex normal
+  // from the initial mesh (midpoints: the mean of their edge's end points).
+  point.normal = surface.planar ? surface.normal : Vec3(0, 0, 0);
+  if (!surface.planar) {
+    const TriMesh& mesh = model_.hierarchy(r).mesh();
+    std::vector<VertexId> stack{v};
+    while (!stack.empty()) {
+      const VertexId u = stack.back();
+      stack.pop_back();
+      if (st.parents[u][0] == kNoVertex) {
+        point.normal += mesh.calc_vertex_normal(OpenMesh::VertexHandle(u));
+      } else {
+        stack.push_back(st.parents[u][0]);
+        stack.push_back(st.parents[u][1]);
+      }
+    }
+    if (point.normal.norm() > 0) point.normal.normalize();
+  }
+  TransportSampling sampling;
+  sampling.k = options_.visibility_samples;
+  sampling.key = sample_key((static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
+                            static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
+  if (is_cluster_element(shooter)) {
+    const RootCluster& c = surfaces_[s].clusters[cluster_index(shooter)];
+    std::vector<std::array<Vec3, 3>> triangles;
+    triangles.reserve(c.roots.size());
+    for (NodeId root : c.roots) triangles.push_back(model_.triangle(s, root));
+    return cluster_transport(point, triangles, model_.rays(), sampling, rays);
+  }
+  return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
+}
+
+void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
+  const auto start = Clock::now();
+  std::atomic<std::uint64_t> rays{0};
+  tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t i) {
+    const PendingLink& p = pending[i];
+    InteractionGraph& g = graphs_[p.graph];
+    GraphLink& link = g.links(p.vertex)[p.slot];
+    std::uint64_t local = 0;
+    link.coefficients = coefficients(g, p.vertex, link.shooter, local);
+    rays += local;
+  });
+  stats_.shadow_rays += rays.load();
+  stats_.seconds_coefficients += seconds_since(start);
+}
+
+void LinearSolver::gather() {
+  const auto start = Clock::now();
+  tbb::parallel_for(std::size_t{0}, graphs_.size(), [&](std::size_t gi) {
+    InteractionGraph& g = graphs_[gi];
+    const int s = g.shooter_surface();
+    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      Rgb sum(0, 0, 0);
+      for (const GraphLink& link : g.links(i)) {
+        for (int l = 0; l < 3; ++l) {
+          const float f = link.coefficients.f[l];
+          if (f != 0.0f) sum += static_cast<double>(f) * shooter_value(s, link.shooter, l);
+        }
+      }
+      g.gathered(i) = sum;
+    }
+  });
+  stats_.seconds_gather += seconds_since(start);
+}
+
+double LinearSolver::push() {
+  const auto start = Clock::now();
+  std::vector<double> change(model_.num_surfaces(), 0.0);
+  tbb::parallel_for(0, model_.num_surfaces(), [&](int r) {
+    SurfaceState& st = surfaces_[r];
+    const Material& m = model_.material(r);
+    const std::size_t nv = st.radiance.size();
+    std::vector<Rgb> total(nv, Rgb(0, 0, 0));
+    std::vector<Rgb> contribution(nv);
+    std::vector<std::uint8_t> exact(nv);
+    // Paper §3, figs. 3–4: each shooter's contribution is pushed on its own,
+    // by linear interpolation down R's hierarchy (vertex ids grow with depth,
+    // so an edge's end points come first), except at the vertices its graph
+    // computed exactly, T-vertices included.
+    for (int gi : st.graphs_in) {
+      const InteractionGraph& g = graphs_[gi];
+      std::fill(exact.begin(), exact.end(), 0);
+      for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+        contribution[g.vertex(i)] = g.gathered(i);
+        exact[g.vertex(i)] = 1;
+      }
+      for (std::size_t v = 0; v < nv; ++v) {
+        if (!exact[v]) {
+          const auto& [a, b] = st.parents[v];
+          contribution[v] = a == kNoVertex ? Rgb(0, 0, 0) : 0.5 * (contribution[a] + contribution[b]);
+        }
+        total[v] += contribution[v];
+      }
+    }
+    for (std::size_t v = 0; v < nv; ++v) {
+      Rgb value;
+      for (int c = 0; c < 3; ++c) value[c] = m.emission[c] + m.reflectance[c] * total[v][c];
+      change[r] = std::max(change[r], std::abs(luminance(value) - luminance(st.radiance[v])));
+      st.radiance[v] = value;
+    }
+    // Pull for the constant-basis shooters: the exact mean of the linear
+    // function over each cluster's roots.
+    for (std::size_t c = 0; c < st.clusters.size(); ++c) {
+      Rgb weighted(0, 0, 0);
+      for (NodeId root : st.clusters[c].roots) {
+        const auto& k = model_.hierarchy(r).corners(root);
+        weighted += model_.area(r, root) / 3.0 * (st.radiance[k[0]] + st.radiance[k[1]] + st.radiance[k[2]]);
+      }
+      st.cluster_radiance[c] = weighted / std::max(st.clusters[c].area, 1e-300);
+    }
+  });
+  stats_.seconds_push_pull += seconds_since(start);
+  return *std::max_element(change.begin(), change.end());
+}
+
+void LinearSolver::update_importance() {
+  const auto start = Clock::now();
+  double total_area = 0.0;
+  for (int s = 0; s < model_.num_surfaces(); ++s) total_area += model_.surface_area(s);
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    SurfaceState& st = surfaces_[s];
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    st.pixels.assign(h.num_nodes(), 0.0);
+    if (options_.view.empty()) {
+      for (std::size_t n = 0; n < h.num_nodes(); ++n) {
+        st.pixels[n] = kDefaultViewPixels * model_.area(s, static_cast<NodeId>(n)) / total_area;
+      }
+    }
+  }
+  constexpr double kDelta = 1e-6;  // as the images' log-average (render/)
+  if (options_.view.empty()) {
+    // Seen face-on: the area-weighted log-average over the initial triangles.
+    double log_sum = 0.0;
+    brightest_ = 0.0;
+    for (int s = 0; s < model_.num_surfaces(); ++s) {
+      const SurfaceHierarchy& h = model_.hierarchy(s);
+      for (std::size_t f = 0; f < h.num_roots(); ++f) {
+        const auto& k = h.corners(static_cast<NodeId>(f));
+        double lum = 0.0;
+        for (VertexId v : k) lum += luminance(surfaces_[s].radiance[v]) / 3.0;
+        log_sum += model_.area(s, static_cast<NodeId>(f)) / total_area * std::log(kDelta + std::max(0.0, lum));
+        brightest_ = std::max(brightest_, lum);
+      }
+    }
+    adaptation_ = std::exp(log_sum);
+    if (!(adaptation_ > kDelta)) adaptation_ = max_emitted_ > 0 ? max_emitted_ : 1.0;
+    if (!(brightest_ > 0)) brightest_ = adaptation_;
+    stats_.seconds_importance += seconds_since(start);
+    return;
+  }
+  // Each pixel counts for every node on the way down to the leaf it sees
+  // (paper §4: a node's importance is the share of the image it covers);
+  // the leaf's interpolated luminance feeds the tone map's adaptation.
+  double log_sum = 0.0;
+  brightest_ = 0.0;
+  for (const ViewSample& sample : options_.view) {
+    SurfaceState& st = surfaces_[sample.surface];
+    const SurfaceHierarchy& h = model_.hierarchy(sample.surface);
+    const TriMesh& mesh = h.mesh();
+    std::array<Vec3, 3> face;
+    int k = 0;
+    for (const auto vh : mesh.fv_range(mesh.face_handle(sample.face))) face[k++] = mesh.point(vh);
+    const Vec3 p = (1.0 - sample.u - sample.v) * face[0] + static_cast<double>(sample.u) * face[1] +
+                   static_cast<double>(sample.v) * face[2];
+    NodeId n = h.root(sample.face);
+    st.pixels[n] += 1.0;
+    std::array<double, 3> b = barycentric(p, model_.triangle(sample.surface, n));
+    while (!h.is_leaf(n)) {
+      // Child c < 3 is the corner region where weight c exceeds ½.
+      int c = 3;
+      for (int i = 0; i < 3; ++i) {
+        if (b[i] >= 0.5) c = i;
+      }
+      n = h.child(n, c);
+      st.pixels[n] += 1.0;
+      b = barycentric(p, model_.triangle(sample.surface, n));
+    }
+    const auto& corners = h.corners(n);
+    double lum = 0.0;
+    for (int i = 0; i < 3; ++i) lum += std::clamp(b[i], 0.0, 1.0) * luminance(st.radiance[corners[i]]);
+    log_sum += std::log(kDelta + std::max(0.0, lum));
+    brightest_ = std::max(brightest_, lum);
+  }
+  adaptation_ = std::exp(log_sum / static_cast<double>(options_.view.size()));
+  if (!(adaptation_ > kDelta)) adaptation_ = max_emitted_ > 0 ? max_emitted_ : 1.0;
+  if (!(brightest_ > 0)) brightest_ = adaptation_;
+  stats_.seconds_importance += seconds_since(start);
+}
+
+void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::NewVertex>& created,
+                                 std::vector<PendingLink>& pending) {
+  InteractionGraph& g = graphs_[gi];
+  for (const auto& nv : created) {
+    // A new node sees the shooter through the same elements as the end point
+    // of its edge (one cut of S's hierarchy); the shooter oracle refines it
+    // from there. Its coefficients are new; its neighbours' are kept (paper
+    // §3: 9 new coefficients per receiver split, not 36).
+    std::vector<GraphLink> links;
+    for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}});
+    for (std::size_t t = 0; t < links.size(); ++t) pending.push_back({gi, nv.index, t});
+    links_now_ += links.size();
+    g.links(nv.index) = std::move(links);
+  }
+}
+
+bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
+  // Paper §4.2: a link whose largest basis contribution, reflected and seen by
+  // the camera, is significant is replaced by links from the shooter's
+  // children, recursively (a pass per level).
+  const bool budget = options_.max_links > 0;
+  bool changed = false;
+  std::vector<std::vector<double>> importance(graphs_.size());
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    const SurfaceState& st = surfaces_[g.receiver_surface()];
+    const SurfaceHierarchy& h = model_.hierarchy(g.receiver_surface());
+    importance[gi].assign(g.num_vertices(), 0.0);
+    for (NodeId leaf : g.leaves()) {
+      const double pixels = static_cast<std::size_t>(leaf) < st.pixels.size() ? st.pixels[leaf] : 0.0;
+      for (VertexId v : h.corners(leaf)) importance[gi][g.index_of(v)] += pixels / 3.0;
+    }
+  }
+  std::vector<PendingLink> candidates = std::move(evaluated);
+  for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
+    std::vector<PendingLink> created;
+    for (const PendingLink& p : candidates) {
+      InteractionGraph& g = graphs_[p.graph];
+      const int s = g.shooter_surface();
+      if (static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) continue;
+      const GraphLink link = g.links(p.vertex)[p.slot];
+      if (!splittable(s, link.shooter)) continue;
+      const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+      double largest = 0.0;
+      for (int l = 0; l < 3; ++l) {
+        Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
+        for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
+        largest = std::max(largest, luminance(transfer));
+      }
+      if (!(largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link)) continue;
+      if (budget && links_now_ + 3 > options_.max_links) {
+        stats_.link_budget_reached = true;
+        continue;
+      }
+      const std::vector<NodeId> kids = children(s, link.shooter);
+      std::vector<GraphLink>& links = g.links(p.vertex);
+      links[p.slot] = {kids[0], {}};
+      created.push_back(p);
+      for (std::size_t c = 1; c < kids.size(); ++c) {
+        created.push_back({p.graph, p.vertex, links.size()});
+        links.push_back({kids[c], {}});
+      }
+      links_now_ += kids.size() - 1;
+      ++stats_.shooter_refinements;
+      changed = true;
+    }
+    compute_coefficients(created);
+    candidates = std::move(created);
+  }
+  return changed;
+}
+
+bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone) {
+  const bool budget = options_.max_links > 0;
+  bool changed = false;
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    InteractionGraph& g = graphs_[gi];
+    const int r = g.receiver_surface();
+    SurfaceHierarchy& h = model_.hierarchy(r);
+    const SurfaceState& st = surfaces_[r];
+    const Rgb& rho = model_.material(r).reflectance;
+    const auto pixels = [&](NodeId n) {
+      return static_cast<std::size_t>(n) < st.pixels.size() ? st.pixels[n] : 0.0;
+    };
+    // Per graph vertex: S's reflected contribution, everything else, and the
+    // fraction of S it sees.
+    const auto own = [&](int i) {
+      Rgb c = g.gathered(i);
+      for (int k = 0; k < 3; ++k) c[k] *= rho[k];
+      return luminance(c);
+    };
+    const auto visibility = [&](int i) {
+      double visible = 0.0, unoccluded = 0.0;
+      for (const GraphLink& l : g.links(i)) {
+        visible += l.coefficients.visible();
+        unoccluded += l.coefficients.unoccluded;
+      }
+      return unoccluded > 0 ? visible / unoccluded : 0.0;
+    };
+    std::vector<NodeId> to_split;
+    for (NodeId leaf : g.leaves()) {
+      const auto& c = h.corners(leaf);
+      for (int k = 0; k < 3; ++k) {
+        const NodeId across = h.neighbor(leaf, k);
+        if (across == kNoNode || across < leaf || g.state(across) != InteractionGraph::NodeState::kLeaf) continue;
+        const auto& d = h.corners(across);
+        const VertexId v1 = c[k], v2 = c[(k + 1) % 3], v3 = c[(k + 2) % 3];
+        VertexId v4 = d[0];
+        for (VertexId v : d) {
+          if (v != v1 && v != v2) v4 = v;
+        }
+        const std::array<int, 4> idx{g.index_of(v1), g.index_of(v2), g.index_of(v3), g.index_of(v4)};
+        std::array<double, 4> b{};
+        double b_min = 1e300;
+        for (int i = 0; i < 4; ++i) {
+          b[i] = own(idx[i]);
+          b_min = std::min(b_min, std::max(0.0, luminance(st.radiance[g.vertex(idx[i])]) - b[i]));
+        }
+        // Paper §4.1 with DESIGN §4's sign: the second difference across the
+        // edge of S's display contribution over what the others give, or the
+        // conservative range where S's visibility changes along the edge.
+        const auto shown = [&](double value) { return tone.display(b_min + value); };
+        double error;
+        if (std::abs(visibility(idx[0]) - visibility(idx[1])) < options_.vis_threshold) {
+          error = 0.5 * std::abs(shown(b[0]) + shown(b[1]) - shown(b[2]) - shown(b[3]));
+        } else {
+          const auto [lo, hi] = std::minmax_element(b.begin(), b.end());
+          error = shown(*hi) - shown(*lo);
+        }
+        if (error * (pixels(leaf) + pixels(across)) < options_.eps_pixel) continue;
+        if (!splittable(r, leaf) || !splittable(r, across)) continue;
+        to_split.push_back(leaf);
+        to_split.push_back(across);
+      }
+    }
+    std::vector<InteractionGraph::NewVertex> created;
+    for (NodeId n : to_split) {
+      if (budget && links_now_ >= options_.max_links) {
+        stats_.link_budget_reached = true;
+        break;
+      }
+      const std::size_t before = created.size();
+      if (g.split(n, h, created)) {
+        ++stats_.receiver_splits;
+        changed = true;
+        sync_vertices(r);
+        seed_vertices(static_cast<int>(gi), {created.begin() + static_cast<std::ptrdiff_t>(before), created.end()},
+                      pending);
+      }
+    }
+  }
+  return changed;
+}
+
+bool LinearSolver::refine() {
+  const auto start = Clock::now();
+  const double coefficient_seconds = stats_.seconds_coefficients;
+  std::vector<PendingLink> all;
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    for (int i = 0; i < static_cast<int>(graphs_[gi].num_vertices()); ++i) {
+      for (std::size_t t = 0; t < graphs_[gi].links(i).size(); ++t) all.push_back({static_cast<int>(gi), i, t});
+    }
+  }
+  bool changed = refine_shooters(all);
+  const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
+  std::vector<PendingLink> pending;
+  changed |= refine_receivers(pending, *tone);
+  compute_coefficients(pending);
+  stats_.seconds_oracles += seconds_since(start) - (stats_.seconds_coefficients - coefficient_seconds);
+  return changed;
+}
+
+void LinearSolver::solve(const std::function<void(int, double)>& progress) {
+  const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
+  for (int it = 1; it <= options_.max_iterations; ++it) {
+    const bool linked = link_new_shooters();
+    gather();
+    const double change = push() / scale;
+    update_importance();
+    // The last allowed iteration only gathers, so the result is consistent.
+    const bool refined = it < options_.max_iterations && refine();
+    stats_.iterations = it;
+    stats_.final_change = change;
+    if (progress) progress(it, change);
+    if (!linked && !refined && change < options_.tolerance) break;
+  }
+  collect_stats();
+}
+
+std::size_t LinearSolver::count_links() const {
+  std::size_t n = 0;
+  for (const InteractionGraph& g : graphs_) n += g.num_links();
+  return n;
+}
+
+void LinearSolver::collect_stats() {
+  stats_.links = count_links();
+  stats_.graphs = graphs_.size();
+  stats_.graph_vertices = 0;
+  stats_.bytes_graphs = 0;
+  stats_.bytes_links = 0;
+  for (const InteractionGraph& g : graphs_) {
+    stats_.graph_vertices += g.num_vertices();
+    stats_.bytes_graphs += g.bytes();
+    stats_.bytes_links += g.link_bytes();
+  }
+  stats_.nodes = stats_.leaves = 0;
+  stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
+  stats_.leaves_per_level.clear();
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    stats_.nodes += h.num_nodes();
+    stats_.leaves += h.num_leaves();
+    if (stats_.leaves_per_level.size() <= static_cast<std::size_t>(h.max_level())) {
+      stats_.leaves_per_level.resize(h.max_level() + 1, 0);
+    }
+    for (NodeId n : h.leaves()) ++stats_.leaves_per_level[h.level(n)];
+    stats_.bytes_geometry += h.geometry_bytes();
+    stats_.bytes_hierarchy += h.hierarchy_bytes();
+    const SurfaceState& st = surfaces_[s];
+    stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
+                           st.approach.capacity() * sizeof(Vec3) + st.pixels.capacity() * sizeof(double);
+  }
+  stats_.world_adaptation = adaptation_;
+}
+
+std::vector<Rgb> LinearSolver::vertex_radiance(int s, const ConformingMesh& mesh) const {
+  std::vector<Rgb> out(mesh.source.size());
+  for (std::size_t v = 0; v < out.size(); ++v) out[v] = surfaces_[s].radiance[mesh.source[v]];
+  return out;
+}
+
+double LinearSolver::row_sum(int receiver, VertexId v) const {
+  double sum = 0.0;
+  for (int gi : surfaces_[receiver].graphs_in) {
+    const InteractionGraph& g = graphs_[gi];
+    const int i = g.index_of(v);
+    if (i < 0) continue;
+    for (const GraphLink& l : g.links(i)) sum += l.coefficients.visible();
+  }
+  return sum;
+}
+
+}  // namespace lhr

@@ -1,0 +1,167 @@
+#pragma once
+// The paper's method: linear hierarchical radiosity with the image-space
+// refinement criterion (paper §3–5; DESIGN §4).
+//
+// Values live at the vertices of every surface's quadtree (point collocation
+// of a linear basis, three hat functions per triangle). Each (shooter S,
+// receiver R) pair that exchanges energy has an InteractionGraph holding S's
+// contribution over R exactly at the graph's vertices; R's radiance at any of
+// its vertices is E + ρ Σ_graphs (that graph's contribution, pushed down by
+// linear interpolation except where the graph computed it exactly). Graphs are
+// created progressively (Holzschuch et al. 1994) and refined by the shooter
+// oracle (§4.2) and the per-shooter receiver oracle (§4.1), both weighted by
+// the image's importance. Radiance, not radiosity, is carried (B = πL).
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "radiosity/interaction_graph.hpp"
+#include "radiosity/root_clusters.hpp"
+#include "radiosity/scene_model.hpp"
+#include "radiosity/tone_map.hpp"
+
+namespace lhr {
+
+// Where one camera pixel sees the scene: initial face `face` of surface
+// `surface`, barycentrics (u, v) of that face's corners 1 and 2 in the
+// surface mesh's face-vertex order (what an Embree hit reports).
+struct ViewSample {
+  std::int32_t surface = -1;
+  std::int32_t face = -1;
+  float u = 0, v = 0;
+};
+
+struct LinearOptions {
+  // Receiver oracle (§4.1): split both triangles of a graph edge when the
+  // display error ΔE times the pixels they cover reaches eps_pixel.
+  double eps_pixel = 0.5;
+  // Shooter oracle (§4.2): refine a link when its largest basis contribution,
+  // reflected, relative to the world adaptation luminance, times the pixels
+  // of the receiving node's hat function, exceeds eps_link.
+  double eps_link = 20.0;
+  // |V1 − V2| at or above this is a visibility change (§4.1): the oracle
+  // then uses the conservative max − min.
+  double vis_threshold = 0.1;
+  // Elements whose edges are shorter than this (scene units) are not split;
+  // 0 = h/32.
+  double min_edge = 0.0;
+  int max_iterations = 50;
+  // Stop when nothing was refined or linked and no vertex changed by more
+  // than tolerance times the brightest emitted luminance.
+  double tolerance = 1e-4;
+  // A surface shoots (gets graphs) once its power reaches this fraction of the
+  // total emitted power (progressive linking).
+  double link_power = 1e-4;
+  int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
+  std::size_t max_links = 0;   // 0 = no limit
+  // What the camera sees, for importance and the tone map's adaptation; empty:
+  // every surface seen face-on, pixels in proportion to area.
+  std::vector<ViewSample> view;
+  // Display intensity M for the receiver oracle, given the log-average and
+  // the largest luminance the camera sees now (recomputed each iteration).
+  // Default: Tumblin–Rushmeier with the DESIGN §4 defaults.
+  std::function<std::unique_ptr<ToneMap>(double log_average, double brightest)> tone_map;
+};
+
+struct LinearStats {
+  std::size_t links = 0;
+  std::size_t graphs = 0;
+  std::size_t graph_vertices = 0;
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  std::vector<std::size_t> leaves_per_level;
+  int iterations = 0;
+  bool link_budget_reached = false;
+  std::uint64_t shadow_rays = 0;
+  std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
+  std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
+  double final_change = 0.0;
+  double world_adaptation = 0.0;
+  // Memory, bytes.
+  std::size_t bytes_geometry = 0;   // vertex positions and initial meshes
+  std::size_t bytes_hierarchy = 0;  // quadtree nodes
+  std::size_t bytes_values = 0;     // per-vertex radiance and bookkeeping
+  std::size_t bytes_graphs = 0;     // graph node states, vertex tables
+  std::size_t bytes_links = 0;
+  double seconds_linking = 0.0;       // new graphs
+  double seconds_coefficients = 0.0;  // form factors and visibility
+  double seconds_gather = 0.0;
+  double seconds_push_pull = 0.0;
+  double seconds_oracles = 0.0;       // both oracles and the splits they make
+  double seconds_importance = 0.0;
+};
+
+class LinearSolver {
+ public:
+  LinearSolver(SceneModel& model, LinearOptions options);
+
+  // Iterates link / gather / push / refine until converged. progress(iteration,
+  // change) after each iteration when given.
+  void solve(const std::function<void(int, double)>& progress = {});
+
+  // Radiance at every vertex of surface s's hierarchy (VertexId order).
+  const std::vector<Rgb>& vertex_radiance(int s) const { return surfaces_[s].radiance; }
+  // Per vertex of a conforming mesh of surface s: the collocated values.
+  std::vector<Rgb> vertex_radiance(int s, const ConformingMesh& mesh) const;
+
+  const LinearStats& stats() const { return stats_; }
+  const std::vector<InteractionGraph>& graphs() const { return graphs_; }
+
+  // Σ_links Σ_l F^l reaching R's vertex v through every graph that holds it
+  // exactly: 1 at every vertex of a closed scene.
+  double row_sum(int receiver, VertexId v) const;
+
+ private:
+  struct SurfaceState {
+    std::vector<Rgb> radiance;  // per vertex
+    std::vector<std::array<VertexId, 2>> parents;  // per vertex: the edge it is the midpoint of
+    std::vector<Vec3> approach;  // per vertex: unit direction into the surface
+    std::vector<RootCluster> clusters;
+    std::vector<Rgb> cluster_radiance;  // mean over each cluster
+    std::vector<double> pixels;  // per node: image pixels it covers
+    std::size_t synced_nodes = 0;
+    bool shooting = false;
+    std::vector<int> graphs_in;  // graphs with this surface as receiver
+  };
+  struct PendingLink {
+    int graph;
+    int vertex;
+    std::size_t slot;
+  };
+
+  void sync_vertices(int s);
+  bool link_new_shooters();
+  void compute_coefficients(std::vector<PendingLink>& pending);
+  TransportCoefficients coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
+                                     std::uint64_t& rays) const;
+  void gather();
+  double push();
+  void update_importance();
+  bool refine();
+  bool refine_shooters(std::vector<PendingLink>& pending);
+  bool refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone);
+  void seed_vertices(int graph, const std::vector<InteractionGraph::NewVertex>& created,
+                     std::vector<PendingLink>& pending);
+  Rgb shooter_value(int s, NodeId element, int l) const;
+  bool splittable(int s, NodeId element) const;
+  std::vector<NodeId> children(int s, NodeId element);
+  std::size_t count_links() const;
+  void collect_stats();
+
+  SceneModel& model_;
+  LinearOptions options_;
+  std::vector<SurfaceState> surfaces_;
+  std::vector<InteractionGraph> graphs_;
+  double max_emitted_ = 0.0;
+  double total_emitted_power_ = 0.0;
+  double min_area_ = 0.0;
+  double adaptation_ = 1.0;  // log-average luminance the camera sees
+  double brightest_ = 1.0;
+  std::size_t links_now_ = 0;
+  LinearStats stats_;
+};
+
+}  // namespace lhr

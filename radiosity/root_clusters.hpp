@@ -1,0 +1,28 @@
+#pragma once
+// Shooters above the quadtree roots (DESIGN §4 "Progressive linking"): a
+// binary tree of clusters of a surface's initial triangles whose top is the
+// whole surface, so a shooter starts as one element and opens up only as far
+// as the shooter oracle asks.
+
+#include <cstdint>
+#include <vector>
+
+#include "radiosity/scene_model.hpp"
+
+namespace lhr {
+
+struct RootCluster {
+  std::vector<NodeId> roots;
+  std::int32_t first_child = -1;  // two consecutive child clusters, or -1: children are the roots
+  double area = 0.0;
+  Vec3 centroid{0, 0, 0};
+  Vec3 normal{0, 0, 0};  // unit mean normal
+};
+
+// Cluster 0 is the whole surface. Median splits of the root centroids along
+// the longest extent: a balanced tree of spatially compact clusters, so a far
+// cluster is a fair stand-in for its triangles. Clusters of at most
+// `leaf_roots` roots open directly onto their roots.
+std::vector<RootCluster> build_root_clusters(const SceneModel& model, int surface, std::size_t leaf_roots = 4);
+
+}  // namespace lhr

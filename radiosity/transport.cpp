@@ -1,0 +1,130 @@
+#include "radiosity/transport.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "radiosity/form_factor.hpp"
+#include "radiosity/sampling.hpp"
+
+namespace lhr {
+
+namespace {
+
+Vec3 unit_normal(const std::array<Vec3, 3>& t) {
+  const Vec3 c = OpenMesh::cross(t[1] - t[0], t[2] - t[0]);
+  const double len = c.norm();
+  return len > 0 ? c / len : Vec3(0, 0, 0);
+}
+
+// The point the kernel and shadow rays start from: x itself, nudged toward the
+// receiver's interior so that a node on a shooter's plane sees it from the
+// side its form factor limit was taken on (DESIGN §4: finite in corners).
+Vec3 kernel_origin(const ReceiverPoint& r, const RayScene& rays) {
+  return r.x + 8.0 * rays.epsilon() * r.approach;
+}
+
+// cosθx cosθy / r² (the π cancels in the ratios that use it); 0 for a pair
+// that does not face each other.
+double kernel(const Vec3& x, const Vec3& nx, const Vec3& y, const Vec3& ny) {
+  const Vec3 d = y - x;
+  const double r2 = d.sqrnorm();
+  if (!(r2 > 0)) return 0.0;
+  const double cx = OpenMesh::dot(nx, d), cy = -OpenMesh::dot(ny, d);
+  if (cx <= 0 || cy <= 0) return 0.0;
+  return cx * cy / (r2 * r2);
+}
+
+}  // namespace
+
+TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
+                                         const RayScene& rays, const TransportSampling& sampling,
+                                         std::uint64_t& ray_count) {
+  TransportCoefficients out;
+  const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
+  const double ff = point_triangle_form_factor(receiver.x, receiver.normal, shooter, approach);
+  if (!(ff > 0.0)) return out;
+  out.unoccluded = static_cast<float>(ff);
+
+  const Vec3 ny = unit_normal(shooter);
+  const Vec3 origin = kernel_origin(receiver, rays);
+  const auto samples = stratified_triangle_samples(std::max(1, sampling.k), sampling.key);
+  std::vector<double> weight(samples.size());
+  std::vector<ShadowRay> segments;
+  std::vector<std::size_t> traced;
+  segments.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Vec3 y = at(shooter, samples[i]);
+    weight[i] = kernel(origin, receiver.normal, y, ny);
+    if (weight[i] > 0) {
+      segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
+      traced.push_back(i);
+    }
+  }
+  if (segments.empty()) {
+    // The samples all miss the part above x's horizon (a sliver of the
+    // triangle): nothing says it is hidden, and its basis split is unknown.
+    out.f.fill(static_cast<float>(ff / 3.0));
+    return out;
+  }
+  std::vector<std::uint8_t> blocked(segments.size());
+  rays.occluded(segments, blocked);
+  ray_count += segments.size();
+  double total = 0.0;
+  std::array<double, 3> visible{0.0, 0.0, 0.0};
+  for (std::size_t t = 0; t < traced.size(); ++t) {
+    const std::size_t i = traced[t];
+    total += weight[i];
+    if (blocked[t]) continue;
+    for (int l = 0; l < 3; ++l) visible[l] += samples[i].barycentric[l] * weight[i];
+  }
+  for (int l = 0; l < 3; ++l) out.f[l] = static_cast<float>(ff * visible[l] / total);
+  return out;
+}
+
+TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
+                                        std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count) {
+  TransportCoefficients out;
+  const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
+  std::vector<double> cumulative;
+  cumulative.reserve(shooter.size());
+  double ff = 0.0;
+  for (const auto& t : shooter) {
+    ff += point_triangle_form_factor(receiver.x, receiver.normal, t, approach);
+    cumulative.push_back(ff);
+  }
+  if (!(ff > 0.0) || shooter.empty()) return out;
+  out.unoccluded = static_cast<float>(ff);
+  // Shadow rays go to triangles drawn in proportion to their share of the
+  // form factor (systematic sampling), so hidden or back-facing parts of a
+  // large shooter do not dilute the parts that carry the energy.
+  const Vec3 origin = kernel_origin(receiver, rays);
+  const std::size_t count = static_cast<std::size_t>(std::max(1, sampling.k * sampling.k));
+  const double offset = unit_double(sample_key(sampling.key, 1));
+  std::vector<ShadowRay> segments;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * ff;
+    const std::size_t j = std::min<std::size_t>(
+        static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()),
+        shooter.size() - 1);
+    const TriangleSample ts = stratified_triangle_samples(1, sample_key(sampling.key, 2, i)).front();
+    const Vec3 y = at(shooter[j], ts), ny = unit_normal(shooter[j]);
+    if (kernel(origin, receiver.normal, y, ny) > 0) {
+      segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
+    }
+  }
+  if (segments.empty()) {
+    out.f[0] = out.unoccluded;
+    return out;
+  }
+  std::vector<std::uint8_t> blocked(segments.size());
+  rays.occluded(segments, blocked);
+  ray_count += segments.size();
+  std::size_t clear = 0;
+  for (std::uint8_t b : blocked) clear += b ? 0 : 1;
+  out.f[0] = static_cast<float>(ff * static_cast<double>(clear) / static_cast<double>(segments.size()));
+  return out;
+}
+
+}  // namespace lhr

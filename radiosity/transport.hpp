@@ -1,0 +1,51 @@
+#pragma once
+// Transport coefficients of the linear basis (paper §3, DESIGN §4 "Linear
+// basis, point collocation"): from a shooter triangle j to a receiver node x,
+//   F^l(x,j) = ∫_Tj N_j^l(y) cosθx cosθy V(x,y) / (π r²) dA_y,   l = 0,1,2.
+// Σ_l F^l without V is the exact point-to-triangle form factor (Lambert's
+// contour formula); basis-weighted Embree samples give the split among l and
+// the occlusion, as a ratio to the unoccluded kernel at the same samples so
+// that an unoccluded link reproduces the exact form factor.
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "mesh/types.hpp"
+#include "radiosity/ray_scene.hpp"
+
+namespace lhr {
+
+struct TransportCoefficients {
+  std::array<float, 3> f{0.0f, 0.0f, 0.0f};  // F^l, occluded; a constant-basis shooter uses f[0] only
+  float unoccluded = 0.0f;                    // exact Σ_l F^l with V = 1
+  float visible() const { return f[0] + f[1] + f[2]; }
+};
+
+// A collocation point. `approach` is a unit direction in the tangent plane
+// toward the receiver's interior (zero if none): a node on a shooter's plane
+// or edge (a floor vertex in a wall–floor corner) takes the limit from there.
+struct ReceiverPoint {
+  Vec3 x;
+  Vec3 normal;
+  Vec3 approach{0, 0, 0};
+};
+
+struct TransportSampling {
+  int k = 4;              // k² stratified samples per shooter triangle
+  std::uint64_t key = 0;  // sample pattern, from the link's ids (deterministic)
+};
+
+// Linear-basis shooter triangle (corners counter-clockwise seen from its front).
+TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
+                                         const RayScene& rays, const TransportSampling& sampling,
+                                         std::uint64_t& ray_count);
+
+// Constant-basis shooter made of several triangles (a root cluster): f[0] is
+// the exact form factor of all of them times the visible fraction of shadow
+// rays drawn in proportion to each triangle's share of it.
+TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
+                                        std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count);
+
+}  // namespace lhr

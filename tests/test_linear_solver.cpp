@@ -1,0 +1,261 @@
+// The paper's linear method against closed forms (the furnace, an emitter
+// over a receiver, a wall meeting a floor) and its invariants after every
+// iteration: restricted quadtree and graph cuts, crack-free export, finite
+// non-negative values, results independent of the thread count.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "io/scene_loader.hpp"
+#include "mesh/validate.hpp"
+#include "radiosity/form_factor.hpp"
+#include "radiosity/linear_solver.hpp"
+#include "render/gouraud.hpp"
+#include "scene_fixtures.hpp"
+#include "test_support.hpp"
+
+namespace lhr {
+namespace {
+
+RawMesh to_raw(const TriMesh& mesh, const std::vector<Rgb>& values) {
+  RawMesh raw;
+  for (const auto vh : mesh.vertices()) raw.points.push_back(mesh.point(vh));
+  for (const auto fh : mesh.faces()) {
+    std::vector<int> f;
+    for (const auto vh : mesh.fv_range(fh)) f.push_back(vh.idx());
+    raw.faces.push_back(f);
+  }
+  raw.radiance = values;
+  return raw;
+}
+
+// Every graph's leaves are a cut of its receiver's quadtree whose leaves
+// sharing an edge differ by at most one level, with every leaf corner a
+// graph vertex.
+std::vector<std::string> graph_violations(const SceneModel& model, const InteractionGraph& g) {
+  std::vector<std::string> out;
+  const SurfaceHierarchy& h = model.hierarchy(g.receiver_surface());
+  const auto containing_leaf = [&](NodeId n) {
+    for (NodeId a = n; a != kNoNode; a = h.parent(a)) {
+      if (g.state(a) == InteractionGraph::NodeState::kLeaf) return a;
+    }
+    return kNoNode;
+  };
+  for (NodeId leaf : g.leaves()) {
+    for (VertexId v : h.corners(leaf)) {
+      if (g.index_of(v) < 0) out.push_back("leaf " + std::to_string(leaf) + ": corner not a graph vertex");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (h.is_boundary_edge(leaf, k)) continue;
+      NodeId across = h.neighbor(leaf, k);
+      if (across == kNoNode) {
+        // The receiver is coarser across: its leaf there must be the
+        // parent's same-level neighbour (one level up), not coarser still.
+        const NodeId parent = h.parent(leaf);
+        across = parent == kNoNode ? kNoNode : h.neighbor(parent, k);
+        if (across == kNoNode) {
+          out.push_back("leaf " + std::to_string(leaf) + ": receiver two levels coarser across edge " +
+                        std::to_string(k));
+          continue;
+        }
+      }
+      const NodeId other = containing_leaf(across);
+      if (other != kNoNode && h.level(other) < h.level(leaf) - 1) {
+        out.push_back("leaves " + std::to_string(leaf) + " and " + std::to_string(other) + " differ by 2 levels");
+      }
+    }
+  }
+  return out;
+}
+
+// What the scene camera sees, at a reduced resolution.
+std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
+  Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
+  camera.width = camera.height = size;
+  std::vector<const TriMesh*> meshes;
+  for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
+  std::vector<ViewSample> view;
+  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
+    if (h.surface >= 0) view.push_back({h.surface, h.face, h.u, h.v});
+  }
+  return view;
+}
+
+void expect_invariants(const SceneModel& model, const LinearSolver& solver, int iteration) {
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    const SurfaceHierarchy& h = model.hierarchy(s);
+    for (const Violation& v : check_hierarchy(h)) ADD_FAILURE() << "iteration " << iteration << ": " << format_violation(v);
+    const ConformingMesh mesh = h.conforming_mesh();
+    const auto values = solver.vertex_radiance(s, mesh);
+    for (const Violation& v : check_conforming_mesh(to_raw(mesh.mesh, values))) {
+      ADD_FAILURE() << "iteration " << iteration << ", surface " << s << ": " << format_violation(v);
+    }
+    for (const Rgb& value : solver.vertex_radiance(s)) {
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(value[c]) && value[c] >= 0) << "iteration " << iteration << ", surface " << s;
+      }
+    }
+  }
+  for (const InteractionGraph& g : solver.graphs()) {
+    for (const std::string& v : graph_violations(model, g)) ADD_FAILURE() << "iteration " << iteration << ": " << v;
+  }
+}
+
+TEST(LinearSolver, FurnaceIsExactAtEveryNode) {
+  // Closed cube, ρ = 0.5, Le = 1: L = Le/(1−ρ) = 2 at every node; each
+  // initial node's transport coefficients sum to 1 (closed scene).
+  const Scene scene = test::furnace_cube(0.5, 1.0);
+  MeshingOptions meshing;
+  meshing.max_edge = 0.5;
+  SceneModel model(scene, meshing);
+  LinearOptions options;
+  options.eps_link = 20.0;  // links open up near the cube's edges and corners
+  options.tolerance = 1e-7;
+  LinearSolver solver(model, options);
+  solver.solve();
+  ASSERT_EQ(model.num_surfaces(), 6);
+  EXPECT_GT(solver.stats().shooter_refinements, 100u) << "the test must exercise refined shooters";
+  std::size_t nodes = 0;
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    for (const Rgb& v : solver.vertex_radiance(s)) {
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], 2.0, 0.005 * 2.0) << "surface " << s;
+      ++nodes;
+    }
+    const SurfaceHierarchy& h = model.hierarchy(s);
+    for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+      if (h.vertex_level(v) == 0) {
+        EXPECT_NEAR(solver.row_sum(s, v), 1.0, 0.005) << "surface " << s << " vertex " << v;
+      }
+    }
+  }
+  EXPECT_GT(nodes, 100u);
+}
+
+TEST(LinearSolver, ReceiverUnderASquareEmitterIsExactAtEveryNode) {
+  // Emitter Kd 0, Le 1, side 0.5 at height 0.5 over a unit receiver of ρ 0.8:
+  // L(x) = ρ Le F(x → emitter) at every receiver node, boundary included.
+  const double rho = 0.8, le = 1.0;
+  const Scene scene = test::emitter_over_receiver(0.5, 0.5, rho, le);
+  MeshingOptions meshing;
+  meshing.max_edge = 0.25;
+  SceneModel model(scene, meshing);
+  LinearOptions options;
+  options.eps_link = 5.0;
+  LinearSolver solver(model, options);
+  solver.solve();
+  const int receiver = model.material(0).reflectance[0] > 0 ? 0 : 1;
+  const int light = 1 - receiver;
+  const Surface& emitter = scene.surfaces[light];
+  const SurfaceHierarchy& h = model.hierarchy(receiver);
+  EXPECT_GE(h.max_level(), 1) << "the receiver oracle must refine under the light's edge";
+  std::size_t checked = 0;
+  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+    const double exact = rho * le * point_polygon_form_factor(h.point(v), Vec3(0, 0, 1), emitter.points);
+    const double got = solver.vertex_radiance(receiver)[v][0];
+    EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex " << v << " at " << h.point(v);
+    ++checked;
+  }
+  EXPECT_GT(checked, 20u);
+}
+
+TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
+  // A unit floor (z = 0, facing up) and an emitting wall (y = 0, facing +y,
+  // Kd 0) sharing the edge y = z = 0: L(x) = ρ Le F(x → wall). On the shared
+  // edge only the limit from inside the floor exists: a wall can fill at most
+  // half of the floor's projected hemisphere there, so F ≤ ½.
+  PolygonSoup soup;
+  Material floor_material;
+  floor_material.name = "floor";
+  floor_material.reflectance = Rgb(0.5, 0.5, 0.5);
+  Material wall_material;
+  wall_material.name = "wall";
+  wall_material.reflectance = Rgb(0, 0, 0);
+  wall_material.emission = Rgb(1, 1, 1);
+  soup.materials = {floor_material, wall_material};
+  soup.groups = {"floor", "wall"};
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0), 1, 1);
+  const Scene scene = test::scene_from_soup(soup, "floor and wall");
+  MeshingOptions meshing;
+  meshing.max_edge = 0.25;
+  SceneModel model(scene, meshing);
+  LinearOptions options;
+  options.eps_link = 5.0;
+  LinearSolver solver(model, options);
+  solver.solve();
+  const int floor = model.material(0).reflectance[0] > 0 ? 0 : 1;
+  const SurfaceHierarchy& h = model.hierarchy(floor);
+  const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
+  std::size_t on_edge = 0, off_edge = 0;
+  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+    const Vec3 x = h.point(v);
+    const double got = solver.vertex_radiance(floor)[v][0];
+    ASSERT_TRUE(std::isfinite(got)) << "vertex at " << x;
+    if (x[1] < 1e-12) {
+      EXPECT_GE(got, 0.0);
+      EXPECT_LE(got, 0.5 * 0.5 + 1e-6);
+      ++on_edge;
+      continue;
+    }
+    const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), wall);
+    EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex at " << x;
+    ++off_edge;
+  }
+  EXPECT_GT(on_edge, 3u);
+  EXPECT_GT(off_edge, 20u);
+}
+
+TEST(LinearSolver, InvariantsHoldAfterEveryIteration) {
+  const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
+  MeshingOptions meshing;
+  meshing.max_edge = 120.0;
+  SceneModel model(loaded.scene, meshing);
+  LinearOptions options;
+  options.eps_link = 10.0;
+  options.eps_pixel = 0.1;
+  options.visibility_samples = 2;
+  options.view = camera_view(model, 128);
+  LinearSolver solver(model, options);
+  int iterations = 0;
+  solver.solve([&](int iteration, double) {
+    expect_invariants(model, solver, iteration);
+    iterations = iteration;
+  });
+  EXPECT_GE(iterations, 2);
+  EXPECT_GT(solver.stats().receiver_splits, 10u) << "the receiver oracle must refine";
+  EXPECT_GT(solver.stats().shooter_refinements, 10u) << "the shooter oracle must refine";
+}
+
+TEST(LinearSolver, SameResultWhateverTheThreadCount) {
+  const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
+  const auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    MeshingOptions meshing;
+    meshing.max_edge = 120.0;
+    SceneModel model(loaded.scene, meshing);
+    LinearOptions options;
+    options.eps_link = 10.0;
+    options.eps_pixel = 0.1;
+    options.visibility_samples = 2;
+    options.view = camera_view(model, 128);
+    LinearSolver solver(model, options);
+    solver.solve();
+    std::vector<Rgb> all;
+    for (int s = 0; s < model.num_surfaces(); ++s) {
+      const auto& v = solver.vertex_radiance(s);
+      all.insert(all.end(), v.begin(), v.end());
+    }
+    return std::make_pair(all, solver.stats().links);
+  };
+  const auto one = run(1), two = run(2);
+  EXPECT_EQ(one.second, two.second);
+  ASSERT_EQ(one.first.size(), two.first.size());
+  for (std::size_t i = 0; i < one.first.size(); ++i) {
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(one.first[i][c], two.first[i][c]) << "vertex " << i;
+  }
+}
+
+}  // namespace
+}  // namespace lhr

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "radiosity/receiver_oracle.hpp"
 #include "radiosity/sampling.hpp"
 
 namespace lhr {
@@ -473,6 +474,7 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
       }
       return unoccluded > 0 ? visible / unoccluded : 0.0;
     };
+    const ReceiverOracle oracle(tone, options_.vis_threshold);
     std::vector<NodeId> to_split;
     for (NodeId leaf : g.leaves()) {
       const auto& c = h.corners(leaf);
@@ -486,24 +488,15 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
           if (v != v1 && v != v2) v4 = v;
         }
         const std::array<int, 4> idx{g.index_of(v1), g.index_of(v2), g.index_of(v3), g.index_of(v4)};
-        std::array<double, 4> b{};
-        double b_min = 1e300;
+        EdgeValues edge;
         for (int i = 0; i < 4; ++i) {
-          b[i] = own(idx[i]);
-          b_min = std::min(b_min, std::max(0.0, luminance(st.radiance[g.vertex(idx[i])]) - b[i]));
+          edge.own[i] = own(idx[i]);
+          edge.total[i] = luminance(st.radiance[g.vertex(idx[i])]);
         }
-        // Paper §4.1 with DESIGN §4's sign: the second difference across the
-        // edge of S's display contribution over what the others give, or the
-        // conservative range where S's visibility changes along the edge.
-        const auto shown = [&](double value) { return tone.display(b_min + value); };
-        double error;
-        if (std::abs(visibility(idx[0]) - visibility(idx[1])) < options_.vis_threshold) {
-          error = 0.5 * std::abs(shown(b[0]) + shown(b[1]) - shown(b[2]) - shown(b[3]));
-        } else {
-          const auto [lo, hi] = std::minmax_element(b.begin(), b.end());
-          error = shown(*hi) - shown(*lo);
-        }
-        if (error * (pixels(leaf) + pixels(across)) < options_.eps_pixel) continue;
+        edge.visibility_1 = visibility(idx[0]);
+        edge.visibility_2 = visibility(idx[1]);
+        const double error = oracle.display_error(edge);
+        if (!ReceiverOracle::refines(error, pixels(leaf) + pixels(across), options_.eps_pixel)) continue;
         if (!splittable(r, leaf) || !splittable(r, across)) continue;
         to_split.push_back(leaf);
         to_split.push_back(across);

@@ -162,7 +162,6 @@ bool LinearSolver::link_new_shooters() {
       }
       const int g = static_cast<int>(graphs_.size());
       graphs_.emplace_back(s, r, model_.hierarchy(r));
-      surfaces_[r].graphs_in.push_back(g);
       InteractionGraph& graph = graphs_.back();
       for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) {
         graph.links(i).push_back({kWholeSurface, {}});
@@ -170,9 +169,24 @@ bool LinearSolver::link_new_shooters() {
       }
     }
   }
-  links_now_ += pending.size();
   stats_.seconds_linking += seconds_since(start);
   compute_coefficients(pending);
+  // Only pairs that exchange energy keep a graph (paper §5): surfaces facing
+  // each other across a wall, say, see nothing of each other.
+  const auto exchanges = [](const InteractionGraph& g) {
+    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      for (const GraphLink& l : g.links(i)) {
+        if (l.coefficients.visible() > 0) return true;
+      }
+    }
+    return false;
+  };
+  std::erase_if(graphs_, [&](const InteractionGraph& g) { return !exchanges(g); });
+  for (SurfaceState& st : surfaces_) st.graphs_in.clear();
+  for (std::size_t g = 0; g < graphs_.size(); ++g) {
+    surfaces_[graphs_[g].receiver_surface()].graphs_in.push_back(static_cast<int>(g));
+  }
+  links_now_ = count_links();
   return !pending.empty();
 }
 

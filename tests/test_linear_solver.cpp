@@ -8,7 +8,10 @@
 
 #include <cmath>
 
+#include "io/scene_generator.hpp"
 #include "io/scene_loader.hpp"
+#include "mesh/initial_mesh.hpp"
+#include "mesh/surfaces.hpp"
 #include "mesh/validate.hpp"
 #include "radiosity/classical_solver.hpp"
 #include "radiosity/form_factor.hpp"
@@ -71,10 +74,10 @@ std::vector<std::string> graph_violations(const SceneModel& model, const Interac
   return out;
 }
 
-// What the scene camera sees, at a reduced resolution.
+// What the scene camera sees, at a reduced resolution (size > 0) or its own.
 std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
   Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
-  camera.width = camera.height = size;
+  if (size > 0) camera.width = camera.height = size;
   std::vector<const TriMesh*> meshes;
   for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
   std::vector<ViewSample> view;
@@ -321,6 +324,63 @@ TEST(LinearSolver, AgreesWithClassicalOnAbsorbedPowerInTheCornellBox) {
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(from_linear[c], from_classical[c], 0.02 * from_classical[c]) << "channel " << c;
   }
+}
+
+}  // namespace
+}  // namespace lhr
+
+namespace lhr {
+namespace {
+
+// Links made by refinement (beyond the one whole-surface link each initial
+// node starts with in every graph), and the share of them whose receiving
+// node lies in room 1 of the four-rooms scene (x in [0,5], z in [0,4]),
+// where its camera stands.
+struct RefinementShare {
+  std::size_t refined_links = 0;
+  double in_camera_room = 0.0;
+};
+
+RefinementShare refinement_in_camera_room(const SceneModel& model, const LinearSolver& solver) {
+  std::size_t inside = 0, all = 0;
+  for (const InteractionGraph& g : solver.graphs()) {
+    const SurfaceHierarchy& h = model.hierarchy(g.receiver_surface());
+    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      const VertexId v = g.vertex(i);
+      const std::size_t n = g.links(i).size() - (h.vertex_level(v) == 0 ? 1 : 0);
+      const Vec3 x = h.point(v);
+      all += n;
+      if (x[0] < 5.0 && x[2] < 4.0) inside += n;
+    }
+  }
+  return {all, all ? static_cast<double>(inside) / static_cast<double>(all) : 0.0};
+}
+
+TEST(LinearSolver, ImportanceSendsTheLinksToTheRoomTheCameraSees) {
+  const GeneratedScene generated = generate_scene("four-rooms");
+  Scene scene;
+  scene.source = "four rooms";
+  scene.materials = generated.soup.materials;
+  scene.surfaces = split_into_surfaces(generated.soup, 30.0).surfaces;
+  scene.camera = generated.camera;
+  const auto run = [&](bool with_camera) {
+    MeshingOptions meshing;
+    meshing.max_edge = default_max_edge(scene);
+    SceneModel model(scene, meshing);
+    LinearOptions options;
+    options.visibility_samples = 2;
+    if (with_camera) options.view = camera_view(model, 0);
+    LinearSolver solver(model, options);
+    solver.solve();
+    return refinement_in_camera_room(model, solver);
+  };
+  const RefinementShare seen = run(true), blind = run(false);
+  // Measured: 60 % of 264807 refinement links in the camera's room (the
+  // rest mostly in the two rooms seen through the doorways); without a
+  // camera 19 % of 553082, about that room's share of the scene.
+  EXPECT_GT(seen.in_camera_room, 0.5) << seen.refined_links << " links";
+  EXPECT_GT(seen.in_camera_room, blind.in_camera_room + 0.2)
+      << "without a camera every room is refined alike: " << blind.in_camera_room << " of " << blind.refined_links;
 }
 
 }  // namespace

@@ -37,11 +37,11 @@ struct ViewSample {
 struct LinearOptions {
   // Receiver oracle (§4.1): split both triangles of a graph edge when the
   // display error ΔE times the pixels they cover reaches eps_pixel.
-  double eps_pixel = 0.5;
+  double eps_pixel = 0.3;
   // Shooter oracle (§4.2): refine a link when its largest basis contribution,
   // reflected, relative to the world adaptation luminance, times the pixels
   // of the receiving node's hat function, exceeds eps_link.
-  double eps_link = 20.0;
+  double eps_link = 10.0;
   // |V1 − V2| at or above this is a visibility change (§4.1): the oracle
   // then uses the conservative max − min.
   double vis_threshold = 0.1;

@@ -24,7 +24,8 @@ void InteractionGraph::set_state(NodeId n, NodeState s) {
 int InteractionGraph::add_vertex(VertexId v) {
   const int i = static_cast<int>(vertices_.size());
   vertices_.push_back(v);
-  index_.emplace(v, i);
+  if (static_cast<std::size_t>(v) >= index_.size()) index_.resize(static_cast<std::size_t>(v) + 1, -1);
+  index_[v] = i;
   links_.emplace_back();
   gathered_.emplace_back(0, 0, 0);
   return i;
@@ -88,10 +89,8 @@ std::size_t InteractionGraph::link_bytes() const {
 }
 
 std::size_t InteractionGraph::bytes() const {
-  // Hash nodes hold a key, a value and a next pointer; buckets one pointer.
-  const std::size_t table = index_.size() * (sizeof(VertexId) + sizeof(int) + sizeof(void*)) +
-                            index_.bucket_count() * sizeof(void*);
-  return sizeof(*this) + state_.capacity() + vertices_.capacity() * sizeof(VertexId) + table +
+  return sizeof(*this) + state_.capacity() + vertices_.capacity() * sizeof(VertexId) +
+         index_.capacity() * sizeof(std::int32_t) +
          links_.capacity() * sizeof(std::vector<GraphLink>) + gathered_.capacity() * sizeof(Rgb);
 }
 

@@ -6,7 +6,6 @@
 // there. The graph owns no geometry: node and vertex ids are R's.
 
 #include <cstdint>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -48,10 +47,7 @@ class InteractionGraph {
   std::size_t num_vertices() const { return vertices_.size(); }
   VertexId vertex(int i) const { return vertices_[i]; }
   // Index of R's vertex v in this graph, or -1.
-  int index_of(VertexId v) const {
-    const auto it = index_.find(v);
-    return it == index_.end() ? -1 : it->second;
-  }
+  int index_of(VertexId v) const { return static_cast<std::size_t>(v) < index_.size() ? index_[v] : -1; }
   std::vector<GraphLink>& links(int i) { return links_[i]; }
   const std::vector<GraphLink>& links(int i) const { return links_[i]; }
   // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l.
@@ -86,7 +82,10 @@ class InteractionGraph {
   std::vector<std::uint8_t> state_;  // per R node
   std::size_t num_leaves_ = 0;
   std::vector<VertexId> vertices_;
-  std::unordered_map<VertexId, int> index_;
+  // Per R vertex: its index here or -1. Dense: 4 bytes per receiver vertex
+  // cost less than a hash table's nodes once a graph holds a few per cent of
+  // them, and lookups are direct.
+  std::vector<std::int32_t> index_;
   std::vector<std::vector<GraphLink>> links_;
   std::vector<Rgb> gathered_;
 };

@@ -1,5 +1,6 @@
 #include "radiosity/interaction_graph.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace lhr {
@@ -16,8 +17,13 @@ InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, co
 
 void InteractionGraph::set_state(NodeId n, NodeState s) {
   if (static_cast<std::size_t>(n) >= state_.size()) state_.resize(static_cast<std::size_t>(n) + 1, 0);
-  if (static_cast<NodeState>(state_[n]) == NodeState::kLeaf) --num_leaves_;
-  if (s == NodeState::kLeaf) ++num_leaves_;
+  if (static_cast<NodeState>(state_[n]) == NodeState::kLeaf) {
+    // The last leaf takes the removed one's place: O(1) after the search.
+    auto it = std::find(leaves_.begin(), leaves_.end(), n);
+    *it = leaves_.back();
+    leaves_.pop_back();
+  }
+  if (s == NodeState::kLeaf) leaves_.push_back(n);
   state_[n] = static_cast<std::uint8_t>(s);
 }
 
@@ -29,15 +35,6 @@ int InteractionGraph::add_vertex(VertexId v) {
   links_.emplace_back();
   gathered_.emplace_back(0, 0, 0);
   return i;
-}
-
-std::vector<NodeId> InteractionGraph::leaves() const {
-  std::vector<NodeId> out;
-  out.reserve(num_leaves_);
-  for (std::size_t n = 0; n < state_.size(); ++n) {
-    if (static_cast<NodeState>(state_[n]) == NodeState::kLeaf) out.push_back(static_cast<NodeId>(n));
-  }
-  return out;
 }
 
 NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const {
@@ -89,7 +86,8 @@ std::size_t InteractionGraph::link_bytes() const {
 }
 
 std::size_t InteractionGraph::bytes() const {
-  return sizeof(*this) + state_.capacity() + vertices_.capacity() * sizeof(VertexId) +
+  return sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
+         vertices_.capacity() * sizeof(VertexId) +
          index_.capacity() * sizeof(std::int32_t) +
          links_.capacity() * sizeof(std::vector<GraphLink>) + gathered_.capacity() * sizeof(Rgb);
 }

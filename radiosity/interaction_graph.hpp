@@ -40,9 +40,9 @@ class InteractionGraph {
   NodeState state(NodeId n) const {
     return static_cast<std::size_t>(n) < state_.size() ? static_cast<NodeState>(state_[n]) : NodeState::kOutside;
   }
-  // Graph leaves in increasing id order.
-  std::vector<NodeId> leaves() const;
-  std::size_t num_leaves() const { return num_leaves_; }
+  // Graph leaves, in the order the splits left them (deterministic).
+  const std::vector<NodeId>& leaves() const { return leaves_; }
+  std::size_t num_leaves() const { return leaves_.size(); }
 
   std::size_t num_vertices() const { return vertices_.size(); }
   VertexId vertex(int i) const { return vertices_[i]; }
@@ -80,7 +80,7 @@ class InteractionGraph {
   int shooter_;
   int receiver_;
   std::vector<std::uint8_t> state_;  // per R node
-  std::size_t num_leaves_ = 0;
+  std::vector<NodeId> leaves_;
   std::vector<VertexId> vertices_;
   // Per R vertex: its index here or -1. Dense: 4 bytes per receiver vertex
   // cost less than a hash table's nodes once a graph holds a few per cent of

@@ -226,6 +226,15 @@ TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int 
     std::vector<std::array<Vec3, 3>> triangles;
     triangles.reserve(c.roots.size());
     for (NodeId root : c.roots) triangles.push_back(model_.triangle(s, root));
+    const Surface& shooter_surface = model_.scene().surfaces[s];
+    if (shooter == kWholeSurface && shooter_surface.planar) {
+      std::vector<std::vector<Vec3>> polygons;
+      for (const auto& polygon : shooter_surface.polygons) {
+        polygons.emplace_back();
+        for (int i : polygon) polygons.back().push_back(shooter_surface.points[i]);
+      }
+      return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays);
+    }
     return cluster_transport(point, triangles, model_.rays(), sampling, rays);
   }
   return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
@@ -347,6 +356,7 @@ void LinearSolver::update_importance() {
     adaptation_ = std::exp(log_sum);
     if (!(adaptation_ > kDelta)) adaptation_ = max_emitted_ > 0 ? max_emitted_ : 1.0;
     if (!(brightest_ > 0)) brightest_ = adaptation_;
+    carry_importance_back();
     stats_.seconds_importance += seconds_since(start);
     return;
   }
@@ -386,7 +396,69 @@ void LinearSolver::update_importance() {
   adaptation_ = std::exp(log_sum / static_cast<double>(options_.view.size()));
   if (!(adaptation_ > kDelta)) adaptation_ = max_emitted_ > 0 ? max_emitted_ : 1.0;
   if (!(brightest_ > 0)) brightest_ = adaptation_;
+  carry_importance_back();
   stats_.seconds_importance += seconds_since(start);
+}
+
+double LinearSolver::node_importance(int s, NodeId n) const {
+  const std::vector<double>& importance = surfaces_[s].importance;
+  return static_cast<std::size_t>(n) < importance.size() ? importance[n] : 0.0;
+}
+
+void LinearSolver::carry_importance_back() {
+  // DESIGN §4 "Importance": what the camera sees of a receiver node is worth
+  // ρ F^l of it at the shooter's element (the same links, read backwards);
+  // one bounce per iteration, from the previous iteration's importance, so
+  // it converges with the radiance (ρ Σ F < 1).
+  for (int s = 0; s < model_.num_surfaces(); ++s) surfaces_[s].deposit.assign(model_.hierarchy(s).num_nodes(), 0.0);
+  for (std::size_t gi = 0; gi < graph_importance_.size() && gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    const int s = g.shooter_surface();
+    SurfaceState& shooter = surfaces_[s];
+    const double rho = luminance(model_.material(g.receiver_surface()).reflectance);
+    for (std::size_t i = 0; i < graph_importance_[gi].size(); ++i) {
+      const double worth = rho * graph_importance_[gi][i];
+      if (!(worth > 0)) continue;
+      for (const GraphLink& l : g.links(static_cast<int>(i))) {
+        const double amount = worth * l.coefficients.visible();
+        if (!(amount > 0)) continue;
+        if (!is_cluster_element(l.shooter)) {
+          shooter.deposit[l.shooter] += amount;
+          continue;
+        }
+        const RootCluster& c = shooter.clusters[cluster_index(l.shooter)];
+        for (NodeId root : c.roots) shooter.deposit[root] += amount * model_.area(s, root) / c.area;
+      }
+    }
+  }
+  // A node's importance: its pixels, what was deposited on it or below it,
+  // and its area's share (a quarter per level) of what was deposited above.
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    SurfaceState& st = surfaces_[s];
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    const std::size_t n = h.num_nodes();
+    std::vector<double> below(st.deposit), above(n, 0.0);
+    for (std::size_t k = n; k-- > 0;) {  // children have larger ids than their parent
+      const NodeId parent = h.parent(static_cast<NodeId>(k));
+      if (parent != kNoNode) below[parent] += below[k];
+    }
+    st.importance.assign(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const NodeId parent = h.parent(static_cast<NodeId>(k));
+      if (parent != kNoNode) above[k] = 0.25 * (above[parent] + st.deposit[parent]);
+      st.importance[k] = st.pixels[k] + above[k] + below[k];
+    }
+  }
+  graph_importance_.assign(graphs_.size(), {});
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    const int r = g.receiver_surface();
+    const SurfaceHierarchy& h = model_.hierarchy(r);
+    graph_importance_[gi].assign(g.num_vertices(), 0.0);
+    for (NodeId leaf : g.leaves()) {
+      for (VertexId v : h.corners(leaf)) graph_importance_[gi][g.index_of(v)] += node_importance(r, leaf) / 3.0;
+    }
+  }
 }
 
 void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::NewVertex>& created,
@@ -411,24 +483,17 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
   // children, recursively (a pass per level).
   const bool budget = options_.max_links > 0;
   bool changed = false;
-  std::vector<std::vector<double>> importance(graphs_.size());
-  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
-    const InteractionGraph& g = graphs_[gi];
-    const SurfaceState& st = surfaces_[g.receiver_surface()];
-    const SurfaceHierarchy& h = model_.hierarchy(g.receiver_surface());
-    importance[gi].assign(g.num_vertices(), 0.0);
-    for (NodeId leaf : g.leaves()) {
-      const double pixels = static_cast<std::size_t>(leaf) < st.pixels.size() ? st.pixels[leaf] : 0.0;
-      for (VertexId v : h.corners(leaf)) importance[gi][g.index_of(v)] += pixels / 3.0;
-    }
-  }
+  const std::vector<std::vector<double>>& importance = graph_importance_;
   std::vector<PendingLink> candidates = std::move(evaluated);
   for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
     std::vector<PendingLink> created;
     for (const PendingLink& p : candidates) {
       InteractionGraph& g = graphs_[p.graph];
       const int s = g.shooter_surface();
-      if (static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) continue;
+      if (static_cast<std::size_t>(p.graph) >= importance.size() ||
+          static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) {
+        continue;
+      }
       const GraphLink link = g.links(p.vertex)[p.slot];
       if (!splittable(s, link.shooter)) continue;
       const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
@@ -470,9 +535,6 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
     SurfaceHierarchy& h = model_.hierarchy(r);
     const SurfaceState& st = surfaces_[r];
     const Rgb& rho = model_.material(r).reflectance;
-    const auto pixels = [&](NodeId n) {
-      return static_cast<std::size_t>(n) < st.pixels.size() ? st.pixels[n] : 0.0;
-    };
     // Per graph vertex: S's reflected contribution, everything else, and the
     // fraction of S it sees.
     const auto own = [&](int i) {
@@ -495,6 +557,9 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
       for (int k = 0; k < 3; ++k) {
         const NodeId across = h.neighbor(leaf, k);
         if (across == kNoNode || across < leaf || g.state(across) != InteractionGraph::NodeState::kLeaf) continue;
+        // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
+        const double pixels = node_importance(r, leaf) + node_importance(r, across);
+        if (pixels < options_.eps_pixel) continue;
         const auto& d = h.corners(across);
         const VertexId v1 = c[k], v2 = c[(k + 1) % 3], v3 = c[(k + 2) % 3];
         VertexId v4 = d[0];
@@ -510,7 +575,7 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
         edge.visibility_1 = visibility(idx[0]);
         edge.visibility_2 = visibility(idx[1]);
         const double error = oracle.display_error(edge);
-        if (!ReceiverOracle::refines(error, pixels(leaf) + pixels(across), options_.eps_pixel)) continue;
+        if (!ReceiverOracle::refines(error, pixels, options_.eps_pixel)) continue;
         if (!splittable(r, leaf) || !splittable(r, across)) continue;
         to_split.push_back(leaf);
         to_split.push_back(across);
@@ -602,7 +667,8 @@ void LinearSolver::collect_stats() {
     stats_.bytes_hierarchy += h.hierarchy_bytes();
     const SurfaceState& st = surfaces_[s];
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
-                           st.approach.capacity() * sizeof(Vec3) + st.pixels.capacity() * sizeof(double);
+                           st.approach.capacity() * sizeof(Vec3) +
+                           (st.pixels.capacity() + st.deposit.capacity() + st.importance.capacity()) * sizeof(double);
   }
   stats_.world_adaptation = adaptation_;
 }

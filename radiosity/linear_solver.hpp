@@ -121,7 +121,9 @@ class LinearSolver {
     std::vector<Vec3> approach;  // per vertex: unit direction into the surface
     std::vector<RootCluster> clusters;
     std::vector<Rgb> cluster_radiance;  // mean over each cluster
-    std::vector<double> pixels;  // per node: image pixels it covers
+    std::vector<double> pixels;      // per node: image pixels it covers
+    std::vector<double> deposit;     // per node: importance its links carried back to it
+    std::vector<double> importance;  // per node: pixels plus what reflection makes of it elsewhere
     std::size_t synced_nodes = 0;
     bool shooting = false;
     std::vector<int> graphs_in;  // graphs with this surface as receiver
@@ -140,6 +142,8 @@ class LinearSolver {
   void gather();
   double push();
   void update_importance();
+  void carry_importance_back();
+  double node_importance(int s, NodeId n) const;
   bool refine();
   bool refine_shooters(std::vector<PendingLink>& pending);
   bool refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone);
@@ -155,6 +159,9 @@ class LinearSolver {
   LinearOptions options_;
   std::vector<SurfaceState> surfaces_;
   std::vector<InteractionGraph> graphs_;
+  // Per graph and graph vertex: the importance of its hat function over the
+  // graph's leaves (what a change of S's contribution there is worth).
+  std::vector<std::vector<double>> graph_importance_;
   double max_emitted_ = 0.0;
   double total_emitted_power_ = 0.0;
   double min_area_ = 0.0;

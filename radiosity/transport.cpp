@@ -127,4 +127,54 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
   return out;
 }
 
+TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
+                                        std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count) {
+  TransportCoefficients out;
+  const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
+  double ff = 0.0;
+  for (const auto& polygon : polygons) ff += point_polygon_form_factor(receiver.x, receiver.normal, polygon, approach);
+  if (!(ff > 0.0) || triangles.empty()) return out;
+  out.unoccluded = static_cast<float>(ff);
+  std::vector<double> cumulative;
+  cumulative.reserve(triangles.size());
+  double area = 0.0;
+  for (const auto& t : triangles) {
+    area += 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
+    cumulative.push_back(area);
+  }
+  const Vec3 origin = kernel_origin(receiver, rays);
+  const std::size_t count = static_cast<std::size_t>(std::max(1, sampling.k * sampling.k));
+  const double offset = unit_double(sample_key(sampling.key, 1));
+  std::vector<ShadowRay> segments;
+  std::vector<double> weight;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * area;
+    const std::size_t j = std::min<std::size_t>(
+        static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()),
+        triangles.size() - 1);
+    const TriangleSample ts = stratified_triangle_samples(1, sample_key(sampling.key, 2, i)).front();
+    const Vec3 y = at(triangles[j], ts), ny = unit_normal(triangles[j]);
+    const double w = kernel(origin, receiver.normal, y, ny);
+    if (w > 0) {
+      segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
+      weight.push_back(w);
+    }
+  }
+  if (segments.empty()) {
+    out.f[0] = out.unoccluded;
+    return out;
+  }
+  std::vector<std::uint8_t> blocked(segments.size());
+  rays.occluded(segments, blocked);
+  ray_count += segments.size();
+  double total = 0.0, clear = 0.0;
+  for (std::size_t t = 0; t < segments.size(); ++t) {
+    total += weight[t];
+    if (!blocked[t]) clear += weight[t];
+  }
+  out.f[0] = static_cast<float>(ff * clear / total);
+  return out;
+}
+
 }  // namespace lhr

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "mesh/types.hpp"
 #include "radiosity/ray_scene.hpp"
@@ -46,6 +47,14 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
 // rays drawn in proportion to each triangle's share of it.
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count);
+
+// A whole planar surface as one constant-basis shooter: f[0] is the exact
+// form factor of its input polygons (the same region as its triangles, at the
+// cost of a few edges instead of every triangle) times the kernel-weighted
+// visible fraction of shadow rays to points spread over the triangles by area.
+TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
+                                        std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count);
 
 }  // namespace lhr

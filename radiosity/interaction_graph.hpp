@@ -43,6 +43,9 @@ class InteractionGraph {
   // Graph leaves, in the order the splits left them (deterministic).
   const std::vector<NodeId>& leaves() const { return leaves_; }
   std::size_t num_leaves() const { return leaves_.size(); }
+  // The graph leaf containing R's node n (n or an ancestor), or kNoNode if n
+  // is above the cut.
+  NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
 
   std::size_t num_vertices() const { return vertices_.size(); }
   VertexId vertex(int i) const { return vertices_[i]; }
@@ -73,9 +76,6 @@ class InteractionGraph {
  private:
   void set_state(NodeId n, NodeState s);
   int add_vertex(VertexId v);
-  // The graph leaf containing node n (n or an ancestor), or kNoNode if n is
-  // above the cut.
-  NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
 
   int shooter_;
   int receiver_;

@@ -555,16 +555,29 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
     for (NodeId leaf : g.leaves()) {
       const auto& c = h.corners(leaf);
       for (int k = 0; k < 3; ++k) {
-        const NodeId across = h.neighbor(leaf, k);
-        if (across == kNoNode || across < leaf || g.state(across) != InteractionGraph::NodeState::kLeaf) continue;
+        if (h.is_boundary_edge(leaf, k)) continue;
+        // The graph leaf across: the same-level one (each pair once, from the
+        // smaller id), or a coarser one (the graph is restricted: one level
+        // up), which only this side sees. A finer side tests itself.
+        NodeId same_level = h.neighbor(leaf, k);
+        if (same_level == kNoNode && h.parent(leaf) != kNoNode) same_level = h.neighbor(h.parent(leaf), k);
+        if (same_level == kNoNode) continue;
+        const NodeId across = g.leaf_containing(same_level, h);
+        if (across == kNoNode || (across == same_level && h.level(across) == h.level(leaf) && across < leaf)) continue;
         // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
         const double pixels = node_importance(r, leaf) + node_importance(r, across);
         if (pixels < options_.eps_pixel) continue;
-        const auto& d = h.corners(across);
         const VertexId v1 = c[k], v2 = c[(k + 1) % 3], v3 = c[(k + 2) % 3];
-        VertexId v4 = d[0];
-        for (VertexId v : d) {
-          if (v != v1 && v != v2) v4 = v;
+        // Vertex 4: the corner of the leaf across farthest from the edge's line.
+        const Vec3 p1 = h.point(v1), along = h.point(v2) - p1;
+        VertexId v4 = kNoVertex;
+        double farthest = -1.0;
+        for (VertexId v : h.corners(across)) {
+          const double d = OpenMesh::cross(along, h.point(v) - p1).sqrnorm();
+          if (d > farthest) {
+            farthest = d;
+            v4 = v;
+          }
         }
         const std::array<int, 4> idx{g.index_of(v1), g.index_of(v2), g.index_of(v3), g.index_of(v4)};
         EdgeValues edge;

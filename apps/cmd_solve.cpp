@@ -45,14 +45,14 @@ int run_solve(const Args& args) {
       ("method", po::value<std::string>()->default_value("linear"),
        "solver: linear (the paper's linear hierarchical radiosity with the image-space refinement criterion) "
        "or classical (Hanrahan et al. 1991, constant elements, BF refinement)")
-      ("eps-pixel", po::value<double>()->default_value(LinearOptions{}.eps_pixel),
+      ("eps-pixel", po::value<double>()->default_value(LinearOptions{}.eps_pixel, "0.3"),
        "linear: split a receiver edge when its display error times the pixels it covers reaches this (paper 4.1)")
       ("eps-link", po::value<double>()->default_value(LinearOptions{}.eps_link),
        "linear: refine a link when its reflected contribution, relative to the adaptation luminance, times the "
        "pixels of the receiving node reaches this (paper 4.2)")
-      ("vis-threshold", po::value<double>()->default_value(LinearOptions{}.vis_threshold),
+      ("vis-threshold", po::value<double>()->default_value(LinearOptions{}.vis_threshold, "0.1"),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
-      ("link-power", po::value<double>()->default_value(LinearOptions{}.link_power),
+      ("link-power", po::value<double>()->default_value(LinearOptions{}.link_power, "1e-4"),
        "linear: a surface starts shooting once its power reaches this fraction of the emitted power")
       ("eps-bf", po::value<double>()->default_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor exceeds this fraction of the brightest "

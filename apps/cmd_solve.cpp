@@ -15,11 +15,7 @@
 #include "io/json_file.hpp"
 #include "io/mesh_io.hpp"
 #include "io/scene_loader.hpp"
-#include "radiosity/classical_solver.hpp"
-#include "radiosity/linear_solver.hpp"
-#include "radiosity/scene_model.hpp"
-#include "render/gouraud.hpp"
-#include "render/solution_view.hpp"
+#include "render/scene_solution.hpp"
 
 namespace lhr::app {
 
@@ -112,9 +108,12 @@ int run_solve(const Args& args) {
   const Scene& scene = loaded.scene;
   const Camera camera = scene.camera.value_or(framing_camera(scene));
 
-  const MeshingOptions meshing = meshing_options_from(vm, scene);
-  ClassicalOptions classical;
-  LinearOptions linear;
+  SolveSettings settings;
+  settings.method = method == "linear" ? SolveMethod::kLinear : SolveMethod::kClassical;
+  settings.camera = camera;
+  settings.meshing = meshing_options_from(vm, scene);
+  ClassicalOptions& classical = settings.classical;
+  LinearOptions& linear = settings.linear;
   const double min_edge = vm.count("min-edge") ? vm["min-edge"].as<double>() : 0.0;
   const int max_iterations = vm.count("max-iterations") ? vm["max-iterations"].as<int>()
                              : method == "linear"        ? linear.max_iterations
@@ -150,12 +149,9 @@ int run_solve(const Args& args) {
   for (const Material& m : scene.materials) any_emitter |= m.is_emitter();
   if (!any_emitter && !quiet) std::cerr << "lhr solve: warning: the scene has no emitter; the result is black\n";
 
-  const auto t_mesh = Clock::now();
-  SceneModel model(scene, meshing);
-  const double seconds_meshing = seconds_since(t_mesh);
   // The tone map shapes the linear method's receiver oracle (paper §4.1) as
   // well as the images and vertex colours.
-  ToneMapChoice tone;
+  ToneMapChoice& tone = settings.tone;
   // A flag given on the command line wins; else the scene file; else the flag's default.
   const ToneMapSettings& file_tone = scene.settings.tone_map;
   const auto pick = [&](const char* flag, const std::optional<double>& from_file) {
@@ -183,136 +179,29 @@ int run_solve(const Args& args) {
       std::cerr << "\riteration " << iteration << ": largest change " << change << "   " << std::flush;
     }
   };
-  std::vector<SurfaceSolution> surfaces(model.num_surfaces());
-  nlohmann::json solver_stats, solver_seconds, parameters;
-  bool budget_reached = false;
-  std::size_t elements = 0, links = 0;
-  int iterations = 0;
-  const auto t_solve = Clock::now();
-  if (method == "linear") {
-    // Importance and the oracle's adaptation come from what the camera sees.
-    std::vector<const TriMesh*> initial;
-    for (int s = 0; s < model.num_surfaces(); ++s) initial.push_back(&model.hierarchy(s).mesh());
-    const PixelHits hits = trace_pixels(camera, initial);
-    for (const PixelHits::Hit& h : hits.pixels) {
-      if (h.surface >= 0) linear.view.push_back({h.surface, h.face, h.u, h.v});
-    }
-    linear.tone_map = [&tone](double log_average, double brightest) {
-      return make_tone_map(tone, log_average, brightest);
-    };
-    LinearSolver solver(model, linear);
-    solver.solve(report);
-    for (int s = 0; s < model.num_surfaces(); ++s) {
-      surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
-      surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
-    }
-    const LinearStats& st = solver.stats();
-    budget_reached = st.link_budget_reached;
-    elements = st.leaves;
-    links = st.links;
-    iterations = st.iterations;
-    parameters = {{"eps_pixel", linear.eps_pixel},
-                  {"eps_link", linear.eps_link},
-                  {"vis_threshold", linear.vis_threshold},
-                  {"link_power", linear.link_power}};
-    const std::size_t graph_bytes = st.bytes_graphs + st.bytes_links;
-    const std::size_t other_bytes = st.bytes_geometry + st.bytes_hierarchy + st.bytes_values;
-    solver_stats = {{"nodes", st.nodes},
-                    {"graphs", st.graphs},
-                    {"graph_vertices", st.graph_vertices},
-                    {"elements_per_level", st.leaves_per_level},
-                    {"receiver_splits", st.receiver_splits},
-                    {"shooter_refinements", st.shooter_refinements},
-                    {"final_change", st.final_change},
-                    {"shadow_rays", st.shadow_rays},
-                    {"oracle_adaptation", st.world_adaptation},
-                    {"bytes",
-                     {{"geometry", st.bytes_geometry},
-                      {"hierarchy", st.bytes_hierarchy},
-                      {"vertex_values", st.bytes_values},
-                      {"graphs", st.bytes_graphs},
-                      {"links", st.bytes_links},
-                      // Paper §5 reports graphs ≈ 30 % over the links and geometry they organise.
-                      {"graph_overhead", other_bytes + st.bytes_links > 0
-                                             ? static_cast<double>(st.bytes_graphs) /
-                                                   static_cast<double>(other_bytes + st.bytes_links)
-                                             : 0.0},
-                      {"total", graph_bytes + other_bytes}}}};
-    solver_seconds = {{"linking", st.seconds_linking},       {"coefficients", st.seconds_coefficients},
-                      {"gather", st.seconds_gather},         {"push_pull", st.seconds_push_pull},
-                      {"oracles", st.seconds_oracles},       {"importance", st.seconds_importance}};
-  } else {
-    ClassicalSolver solver(model, classical);
-    solver.solve(report);
-    for (int s = 0; s < model.num_surfaces(); ++s) {
-      surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
-      surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
-    }
-    const ClassicalStats& st = solver.stats();
-    budget_reached = st.link_budget_reached;
-    elements = st.leaves;
-    links = st.links;
-    iterations = st.iterations;
-    parameters = {{"eps_bf", classical.eps_bf}};
-    solver_stats = {{"nodes", st.nodes}, {"final_change", st.final_change}, {"shadow_rays", st.shadow_rays}};
-    solver_seconds = {{"refine", st.seconds_refine},
-                      {"coefficients", st.seconds_coefficients},
-                      {"gather", st.seconds_gather},
-                      {"push_pull", st.seconds_push_pull}};
-  }
+  const SceneSolution solution = solve_scene(scene, settings, report);
   if (progress && !verbose) std::cerr << "\n";
-  const double seconds_solve = seconds_since(t_solve);
-  if (budget_reached && !quiet) std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
+  if (solution.link_budget_reached && !quiet) {
+    std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
+  }
 
   const auto t_output = Clock::now();
-  const SolutionView view = make_solution_view(surfaces, camera, tone);
+  const SolutionView& view = solution.view;
   write_mesh(out_dir / "mesh.ply", view.export_mesh);
   write_mesh(out_dir / "mesh.off", view.export_mesh);
   write_image(out_dir / "image.exr", view.radiance_image);
   write_image(out_dir / "image.png", view.display_image);
-  const double seconds_output = seconds_since(t_output);
-
-  nlohmann::json doc;
-  doc["scene"] = scene.source;
-  doc["method"] = method;
-  parameters.update({{"max_edge", meshing.max_edge},
-                     {"min_angle_deg", meshing.min_angle_deg},
-                     {"min_edge", min_edge > 0 ? min_edge : meshing.max_edge / 32.0},
-                     {"max_iterations", max_iterations},
-                     {"tolerance", tolerance},
-                     {"max_links", max_links},
-                     {"visibility_samples", visibility_samples},
-                     {"tone_map", view.tone_map->describe()},
-                     {"camera",
-                      {{"eye", {camera.eye[0], camera.eye[1], camera.eye[2]}},
-                       {"target", {camera.target[0], camera.target[1], camera.target[2]}},
-                       {"up", {camera.up[0], camera.up[1], camera.up[2]}},
-                       {"fov_y_deg", camera.fov_y_deg},
-                       {"width", camera.width},
-                       {"height", camera.height}}}});
-  doc["parameters"] = parameters;
-  doc["surfaces"] = model.num_surfaces();
-  doc["elements"] = elements;
-  doc["links"] = links;
-  doc["iterations"] = iterations;
-  doc["link_budget_reached"] = budget_reached;
-  doc.update(solver_stats);
-  doc["exported_vertices"] = view.export_mesh.points.size();
-  doc["exported_triangles"] = view.export_mesh.triangles.size();
-  doc["world_adaptation"] = view.world_adaptation;
-  // Timings and memory vary from run to run; everything above does not.
-  solver_seconds.update({{"meshing", seconds_meshing},
-                         {"solve", seconds_solve},
-                         {"output", seconds_output},
-                         {"total", seconds_since(t_start)}});
-  doc["seconds"] = solver_seconds;
+  nlohmann::json doc = solution.stats;
+  // Timings and memory vary from run to run; everything else does not.
+  doc["seconds"]["output"] = seconds_since(t_output);
+  doc["seconds"]["total"] = seconds_since(t_start);
   doc["peak_memory_mib"] = peak_rss_mib();
   write_json_file(out_dir / "stats.json", doc);
 
   if (!quiet) {
-    std::cerr << "lhr solve: " << method << ", " << model.num_surfaces() << " surfaces, " << elements
-              << " elements, " << links << " links, " << iterations << " iterations, " << seconds_since(t_start)
-              << " s -> " << out_dir.string() << "\n";
+    std::cerr << "lhr solve: " << method << ", " << doc["surfaces"] << " surfaces, " << doc["elements"]
+              << " elements, " << doc["links"] << " links, " << doc["iterations"] << " iterations, "
+              << seconds_since(t_start) << " s -> " << out_dir.string() << "\n";
   }
   return kExitOk;
 }

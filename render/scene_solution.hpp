@@ -1,0 +1,43 @@
+#pragma once
+// One solve of a scene, from meshing to the Gouraud view, with either method:
+// what `lhr solve` writes and what `lhr bench` sweeps (DESIGN §1 outputs).
+
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "mesh/initial_mesh.hpp"
+#include "mesh/scene.hpp"
+#include "radiosity/classical_solver.hpp"
+#include "radiosity/linear_solver.hpp"
+#include "render/solution_view.hpp"
+
+namespace lhr {
+
+enum class SolveMethod { kLinear, kClassical };
+
+const char* method_name(SolveMethod method);
+
+struct SolveSettings {
+  SolveMethod method = SolveMethod::kLinear;
+  MeshingOptions meshing;
+  LinearOptions linear;  // its view and tone map are filled from `camera` and `tone`
+  ClassicalOptions classical;
+  ToneMapChoice tone;
+  Camera camera;
+};
+
+struct SceneSolution {
+  SolutionView view;
+  // stats.json: method, parameters, sizes, bytes, seconds per phase. The
+  // "seconds" object and peak memory vary from run to run; nothing else does.
+  nlohmann::json stats;
+  bool link_budget_reached = false;
+};
+
+// progress(iteration, largest change) after each solver iteration.
+SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
+                          const std::function<void(int, double)>& progress = {});
+
+}  // namespace lhr

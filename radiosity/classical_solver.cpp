@@ -140,6 +140,9 @@ void ClassicalSolver::link_surfaces() {
       // A surface does not light itself: planar ones cannot, and curved
       // self-transfer is left to the other surfaces' links (documented limit).
       if (r == s) continue;
+      // A black receiver reflects nothing: links to it would only be refined.
+      const Rgb& rho = model_.material(r).reflectance;
+      if (!(std::max({rho[0], rho[1], rho[2]}) > 0)) continue;
       const Surface& receiver = scene.surfaces[r];
       const Surface& shooter = scene.surfaces[s];
       if (!some_point_in_front(shooter, receiver, eps) || !some_point_in_front(receiver, shooter, eps)) continue;

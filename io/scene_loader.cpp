@@ -992,6 +992,10 @@ LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& opti
     result.warnings.push_back("dropped " + std::to_string(split.dropped_zero_area_faces) +
                               " zero-area faces");
   }
+  if (split.non_manifold_edges > 0) {
+    result.warnings.push_back(geometry.string() + ": " + std::to_string(split.non_manifold_edges) +
+                              " edges are shared by more than two faces; surfaces are cut along them");
+  }
   scene.camera = camera ? *camera : framing_camera(scene);
   return result;
 }

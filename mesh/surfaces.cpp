@@ -111,6 +111,13 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
   }
   UnionFind components(n_faces);
   for (const auto& [edge, faces] : edge_faces) {
+    // An edge of more than two faces (a fin, a T-junction of walls) joins
+    // none of them: each side becomes a surface of its own, which a quadtree
+    // can carry, and the loader reports how many such edges it cut.
+    if (faces.size() > 2) {
+      ++split.non_manifold_edges;
+      continue;
+    }
     for (std::size_t i = 0; i < faces.size(); ++i) {
       for (std::size_t j = i + 1; j < faces.size(); ++j) {
         const InputFace& a = soup.faces[faces[i]];

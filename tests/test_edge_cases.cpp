@@ -190,3 +190,28 @@ TEST(EdgeCases, TheSameSceneAtAnyScaleGivesTheSameImage) {
 
 }  // namespace
 }  // namespace lhr
+
+namespace lhr {
+namespace {
+
+TEST(EdgeCases, NonManifoldEdgeIsCutAndReported) {
+  // Three faces on one edge (a floor with a fin above and below it) under a light.
+  const auto dir = test::fresh_dir("edge_fin");
+  test::write_text(dir / "fin.mtl", "newmtl white\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
+  test::write_text(dir / "fin.obj",
+                   "mtllib fin.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 0 0 -1\nv 1 0 -1\n"
+                   "v 0 0 2\nv 0 1 2\nv 1 1 2\nv 1 0 2\n"
+                   "usemtl white\nf 1 2 3 4\nf 1 5 6 2\nf 1 2 8 7\nusemtl light\nf 9 10 11 12\n");
+  const LoadResult loaded = load_scene(dir / "fin.obj");
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("1 edges are shared by more than two faces"), std::string::npos)
+      << loaded.warnings[0];
+  EXPECT_EQ(loaded.scene.surfaces.size(), 4u) << "floor, upper fin, lower fin, light";
+  expect_finite_non_negative(solve_linear(loaded.scene, 0.3), "fin, linear");
+  const auto r = test::run_lhr({"solve", (dir / "fin.obj").string(), "--out", (dir / "out").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("shared by more than two faces"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace lhr

@@ -10,6 +10,7 @@
 #include <tbb/global_control.h>
 
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/options.hpp"
 #include "io/image_io.hpp"
 #include "io/json_file.hpp"
@@ -99,6 +100,7 @@ int run_solve(const Args& args) {
                                                : tbb::global_control::active_value(
                                                      tbb::global_control::max_allowed_parallelism));
 
+  install_interrupt_handlers();
   const std::filesystem::path out_dir = vm["out"].as<std::string>();
   const auto t_start = Clock::now();
   const LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options_from(vm));
@@ -173,13 +175,22 @@ int run_solve(const Args& args) {
   }
 
   const auto report = [&](int iteration, double change) {
+    throw_if_interrupted();
     if (verbose) {
       std::cerr << "iteration " << iteration << ": largest change " << change << "\n";
     } else if (progress) {
       std::cerr << "\riteration " << iteration << ": largest change " << change << "   " << std::flush;
     }
   };
-  const SceneSolution solution = solve_scene(scene, settings, report);
+  settings.linear.checkpoint = throw_if_interrupted;
+  SceneSolution solution;
+  try {
+    solution = solve_scene(scene, settings, report);
+  } catch (const Interrupted& e) {
+    if (progress && !verbose) std::cerr << "\n";
+    std::cerr << "lhr solve: " << e.what() << "\n";
+    return kExitInterrupted;
+  }
   if (progress && !verbose) std::cerr << "\n";
   if (solution.link_budget_reached && !quiet) {
     std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";

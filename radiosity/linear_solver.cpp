@@ -486,6 +486,7 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
   const std::vector<std::vector<double>>& importance = graph_importance_;
   std::vector<PendingLink> candidates = std::move(evaluated);
   for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
+    if (options_.checkpoint) options_.checkpoint();
     std::vector<PendingLink> created;
     for (const PendingLink& p : candidates) {
       InteractionGraph& g = graphs_[p.graph];
@@ -626,6 +627,7 @@ bool LinearSolver::refine() {
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
   std::vector<PendingLink> pending;
   changed |= refine_receivers(pending, *tone);
+  if (options_.checkpoint) options_.checkpoint();
   compute_coefficients(pending);
   stats_.seconds_oracles += seconds_since(start) - (stats_.seconds_coefficients - coefficient_seconds);
   return changed;
@@ -633,11 +635,17 @@ bool LinearSolver::refine() {
 
 void LinearSolver::solve(const std::function<void(int, double)>& progress) {
   const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
+  const auto checkpoint = [this] {
+    if (options_.checkpoint) options_.checkpoint();
+  };
   for (int it = 1; it <= options_.max_iterations; ++it) {
+    checkpoint();
     const bool linked = link_new_shooters();
+    checkpoint();
     gather();
     const double change = push() / scale;
     update_importance();
+    checkpoint();
     // The last allowed iteration only gathers, so the result is consistent.
     const bool refined = it < options_.max_iterations && refine();
     stats_.iterations = it;

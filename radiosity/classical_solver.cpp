@@ -140,9 +140,6 @@ void ClassicalSolver::link_surfaces() {
       // A surface does not light itself: planar ones cannot, and curved
       // self-transfer is left to the other surfaces' links (documented limit).
       if (r == s) continue;
-      // A black receiver reflects nothing: links to it would only be refined.
-      const Rgb& rho = model_.material(r).reflectance;
-      if (!(std::max({rho[0], rho[1], rho[2]}) > 0)) continue;
       const Surface& receiver = scene.surfaces[r];
       const Surface& shooter = scene.surfaces[s];
       if (!some_point_in_front(shooter, receiver, eps) || !some_point_in_front(receiver, shooter, eps)) continue;
@@ -306,6 +303,11 @@ bool ClassicalSolver::refine_links() {
   };
 
   for (int s = 0; s < model_.num_surfaces(); ++s) {
+    // A black receiver reflects nothing, so no error in what it gathers is
+    // seen: its links are never refined, only kept so that its irradiance
+    // (what it absorbs) is known.
+    const Rgb& rho = model_.material(s).reflectance;
+    const bool reflects = std::max({rho[0], rho[1], rho[2]}) > 0;
     // Nodes created during this pass have no links yet: the pass goes one level deeper at most.
     const NodeId count = static_cast<NodeId>(model_.hierarchy(s).num_nodes());
     for (NodeId n = 0; n < count; ++n) {
@@ -329,7 +331,7 @@ bool ClassicalSolver::refine_links() {
         }
         const double transfer = luminance(element_radiance(link.shooter)) * link.oracle;
         const bool can_receiver = splittable(receiver), can_shooter = splittable(link.shooter);
-        if (!(transfer > threshold) || (!can_receiver && !can_shooter)) {
+        if (!reflects || !(transfer > threshold) || (!can_receiver && !can_shooter)) {
           kept.push_back(link);
           continue;
         }

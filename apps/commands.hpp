@@ -18,5 +18,7 @@ int run_mesh(const Args& args);
 int run_validate(const Args& args);
 int run_scene(const Args& args);
 int run_solve(const Args& args);
+int run_reference(const Args& args);
+int run_compare(const Args& args);
 
 }  // namespace lhr::app

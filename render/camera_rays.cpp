@@ -17,9 +17,11 @@ CameraRays::CameraRays(const Camera& camera) : eye_(camera.eye), width_(camera.w
   half_width_ = half_height_ * static_cast<double>(width_) / static_cast<double>(height_);
 }
 
-Vec3 CameraRays::direction(int x, int y) const {
-  const double sx = (2.0 * (x + 0.5) / width_ - 1.0) * half_width_;
-  const double sy = (1.0 - 2.0 * (y + 0.5) / height_) * half_height_;
+Vec3 CameraRays::direction(int x, int y) const { return direction_at(x + 0.5, y + 0.5); }
+
+Vec3 CameraRays::direction_at(double px, double py) const {
+  const double sx = (2.0 * px / width_ - 1.0) * half_width_;
+  const double sy = (1.0 - 2.0 * py / height_) * half_height_;
   return (forward_ + sx * right_ + sy * up_).normalized();
 }
 

@@ -12,6 +12,9 @@ class CameraRays {
   explicit CameraRays(const Camera& camera);
   // Unit direction through the centre of pixel (x, y).
   Vec3 direction(int x, int y) const;
+  // Unit direction through image point (px, py) in pixel units: pixel (x, y)
+  // covers [x, x+1) × [y, y+1), so (x+0.5, y+0.5) is its centre.
+  Vec3 direction_at(double px, double py) const;
   const Vec3& origin() const { return eye_; }
 
  private:

@@ -1,0 +1,148 @@
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/commands.hpp"
+#include "apps/options.hpp"
+#include "apps/tone_options.hpp"
+#include "io/image_io.hpp"
+#include "io/input_error.hpp"
+#include "io/scene_loader.hpp"
+#include "render/image_metrics.hpp"
+#include "render/path_tracer.hpp"
+
+namespace lhr::app {
+
+namespace {
+
+void require_finite(const Image& image, const std::filesystem::path& path) {
+  for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+    if (!std::isfinite(image.rgb[i])) {
+      const std::size_t pixel = i / 3;
+      throw InputError(path, "pixel (" + std::to_string(pixel % image.width) + ", " +
+                                 std::to_string(pixel / image.width) + ") is not a finite number");
+    }
+  }
+}
+
+// JSON has no infinity: an infinite value (PSNR of identical images) is null.
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+int run_compare(const Args& args) {
+  po::options_description visible("options");
+  visible.add_options()("help,h", "show this help")
+      ("json", "print the metrics as JSON on stdout")
+      ("diff", po::value<std::string>(),
+       "write a PNG of the differences: black background, grey within 10 % (brighter with the difference), "
+       "yellow within 15 %, red beyond")
+      ("scene", po::value<std::string>(),
+       "the scene both images show: its tone-map block applies, and background is where the camera's "
+       "pixel-centre ray misses (default: where the reference is exactly 0)");
+  add_tone_map_options(visible);
+  po::options_description all;
+  all.add(visible);
+  all.add_options()("image", po::value<std::string>()->required(), "image")(
+      "reference", po::value<std::string>()->required(), "reference");
+  po::positional_options_description positional;
+  positional.add("image", 1).add("reference", 1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+  if (vm.count("help")) {
+    std::cout << "usage: lhr compare IMAGE.exr REFERENCE.exr [--json] [--diff DIFF.png] [--scene SCENE]\n\n"
+                 "Measures how close IMAGE is to REFERENCE (both linear radiance, e.g. from lhr solve\n"
+                 "and lhr reference): the % of non-background pixels whose display value is within\n"
+                 "10 % and 15 % of the display range of the reference's (per channel: a pixel counts\n"
+                 "only if all three channels are), RMSE and PSNR of the display values, and the\n"
+                 "relative error of the linear radiance. Both images go through the same tone map,\n"
+                 "its defaults taken from the reference.\n\n"
+              << visible << "\n";
+    return kExitOk;
+  }
+  po::notify(vm);
+  const std::filesystem::path image_path = vm["image"].as<std::string>();
+  const std::filesystem::path reference_path = vm["reference"].as<std::string>();
+  std::optional<std::filesystem::path> diff_path;
+  if (vm.count("diff")) {
+    diff_path = vm["diff"].as<std::string>();
+    if (diff_path->extension() != ".png") throw po::error("--diff must name a .png file");
+  }
+
+  const Image image = read_image(image_path);
+  const Image reference = read_image(reference_path);
+  require_finite(image, image_path);
+  require_finite(reference, reference_path);
+  if (image.width != reference.width || image.height != reference.height) {
+    throw InputError(image_path, "is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                     " pixels but the reference " + reference_path.string() + " is " +
+                                     std::to_string(reference.width) + "x" + std::to_string(reference.height));
+  }
+
+  std::vector<std::uint8_t> mask;
+  ToneMapChoice tone;
+  std::string background;
+  if (vm.count("scene")) {
+    const std::filesystem::path scene_path = vm["scene"].as<std::string>();
+    const Scene scene = load_scene(scene_path).scene;
+    const Camera camera = scene.camera.value_or(framing_camera(scene));
+    if (camera.width != reference.width || camera.height != reference.height) {
+      throw InputError(scene_path, "its camera is " + std::to_string(camera.width) + "x" +
+                                       std::to_string(camera.height) + " pixels but the images are " +
+                                       std::to_string(reference.width) + "x" + std::to_string(reference.height));
+    }
+    tone = tone_choice_from(vm, &scene.settings.tone_map);
+    mask = PathTracer(scene).coverage(camera);
+    background = "camera rays that miss the scene";
+  } else {
+    tone = tone_choice_from(vm, nullptr);
+    mask = nonzero_mask(reference);
+    background = "reference pixels that are exactly 0";
+  }
+  const auto tone_map = reference_tone_map(tone, reference, mask);
+  const ImageMetrics m = compare_images(image, reference, mask, *tone_map);
+  if (m.pixels == 0) {
+    throw InputError(reference_path, "has no non-background pixel to compare (" + background + ")");
+  }
+  if (diff_path) write_image(*diff_path, difference_image(image, reference, mask, *tone_map));
+
+  if (vm.count("json")) {
+    nlohmann::json doc;
+    doc["image"] = image_path.string();
+    doc["reference"] = reference_path.string();
+    doc["width"] = reference.width;
+    doc["height"] = reference.height;
+    doc["pixels"] = m.pixels;
+    doc["background_pixels"] = mask.size() - m.pixels;
+    doc["background"] = background;
+    doc["within_10_percent"] = m.within_10;
+    doc["within_15_percent"] = m.within_15;
+    doc["rmse"] = m.rmse;
+    doc["psnr_db"] = finite_or_null(m.psnr_db);
+    doc["max_difference"] = m.max_difference;
+    doc["relative_error"] = finite_or_null(m.relative_error);
+    doc["tone_map"] = tone_map->describe();
+    std::cout << doc.dump(2) << "\n";
+  } else {
+    std::ostringstream s;
+    s << std::fixed;
+    s << "pixels compared   " << m.pixels << " of " << mask.size() << " (background: " << background << ")\n";
+    s << std::setprecision(2) << "within 10 %       " << m.within_10 << " %\n";
+    s << "within 15 %       " << m.within_15 << " %\n";
+    s << std::setprecision(4) << "RMSE              " << m.rmse << " (display values in [0,1])\n";
+    s << std::setprecision(2) << "PSNR              " << m.psnr_db << " dB\n";
+    s << std::setprecision(4) << "max difference    " << m.max_difference << "\n";
+    s << "relative error    " << m.relative_error << " (linear radiance, sum |a-b| / sum |b|)\n";
+    s << "tone map          " << tone_map->describe() << "\n";
+    std::cout << s.str();
+  }
+  return kExitOk;
+}
+
+}  // namespace lhr::app

@@ -1,0 +1,499 @@
+#include "render/path_tracer.hpp"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "radiosity/sampling.hpp"
+#include "radiosity/tone_map.hpp"
+#include "render/camera_rays.hpp"
+
+namespace lhr {
+
+namespace {
+
+// Embree stores float coordinates: a hit is exact to about 1e-7 of the
+// coordinates' magnitude, so ray origins are lifted off their surface by more.
+constexpr double kRelativeEpsilon = 1e-5;
+// Russian roulette keeps a path with probability min(this, max throughput):
+// below 1 so that paths end even where Kd is close to 1.
+constexpr double kMaxSurvival = 0.95;
+// A guard, not a truncation that matters: surviving this many bounces has
+// probability below 0.95^1000 ≈ 5e-23.
+constexpr int kMaxBounces = 1000;
+
+Rgb times(const Rgb& a, const Rgb& b) { return Rgb(a[0] * b[0], a[1] * b[1], a[2] * b[2]); }
+double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }
+
+// Counter-based stream: each draw hashes (key, counter), so a sample's
+// numbers depend only on (seed, pixel, sample index), never on thread order.
+class SampleStream {
+ public:
+  explicit SampleStream(std::uint64_t key) : state_(key) {}
+  double next() {
+    state_ += 0x9E3779B97F4A7C15ull;
+    return unit_double(state_);
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+// An orthonormal frame around unit n (Duff et al. 2017, branchless).
+void frame_around(const Vec3& n, Vec3& t, Vec3& b) {
+  const double sign = std::copysign(1.0, n[2]);
+  const double a = -1.0 / (sign + n[2]);
+  const double c = n[0] * n[1] * a;
+  t = Vec3(1.0 + sign * n[0] * n[0] * a, sign * c, -sign * n[0]);
+  b = Vec3(c, sign + n[1] * n[1] * a, -n[1]);
+}
+
+void throw_on_error(RTCDevice device, const char* what) {
+  const RTCError error = rtcGetDeviceError(device);
+  if (error != RTC_ERROR_NONE) {
+    throw std::runtime_error(std::string("Embree failed while ") + what + " (error " +
+                             std::to_string(static_cast<int>(error)) + ")");
+  }
+}
+
+double orient2(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+// Triangles (as corner indices into the polygon) tiling a planar polygon that
+// is counter-clockwise in q: a fan when every fan triangle is
+// counter-clockwise, else ear clipping. Collinear pieces are dropped; an
+// empty optional means the polygon is self-intersecting or clockwise.
+std::optional<std::vector<std::array<int, 3>>> triangulate(const std::vector<std::array<double, 2>>& q) {
+  const int n = static_cast<int>(q.size());
+  std::vector<std::array<int, 3>> out;
+  bool fan_ok = true;
+  for (int i = 1; i + 1 < n && fan_ok; ++i) fan_ok = orient2(q[0], q[i], q[i + 1]) >= 0;
+  if (fan_ok) {
+    for (int i = 1; i + 1 < n; ++i) {
+      if (orient2(q[0], q[i], q[i + 1]) > 0) out.push_back({0, i, i + 1});
+    }
+    return out;
+  }
+  std::vector<int> ring(n);
+  for (int i = 0; i < n; ++i) ring[i] = i;
+  while (ring.size() >= 3) {
+    const std::size_t m = ring.size();
+    bool clipped = false;
+    for (std::size_t i = 0; i < m && !clipped; ++i) {
+      const int a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+      if (!(orient2(q[a], q[b], q[c]) > 0)) continue;
+      bool empty = true;
+      for (std::size_t j = 0; j < m && empty; ++j) {
+        const int r = ring[j];
+        if (r == a || r == b || r == c || q[r] == q[a] || q[r] == q[b] || q[r] == q[c]) continue;
+        empty = !(orient2(q[a], q[b], q[r]) >= 0 && orient2(q[b], q[c], q[r]) >= 0 && orient2(q[c], q[a], q[r]) >= 0);
+      }
+      if (empty) {
+        out.push_back({a, b, c});
+        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+        clipped = true;
+      }
+    }
+    for (std::size_t i = 0; i < m && !clipped; ++i) {
+      const int a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+      if (orient2(q[a], q[b], q[c]) == 0) {
+        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+        clipped = true;
+      }
+    }
+    if (!clipped) return std::nullopt;
+  }
+  return out;
+}
+
+struct Triangle {
+  std::array<Vec3, 3> corners;
+  Vec3 normal;  // unit, front side
+  Vec3 centroid;
+  double area = 0.0;
+  int material = 0;
+  double pick_probability = 0.0;  // of next-event estimation choosing it; 0 unless it emits
+};
+
+// Per-pixel sums over the samples so far, in sample order.
+struct PixelSums {
+  double half[2][3] = {{0, 0, 0}, {0, 0, 0}};  // even and odd samples
+  double mean_luminance = 0.0;                 // Welford's running mean and
+  double m2_luminance = 0.0;                   // sum of squared deviations
+};
+
+}  // namespace
+
+struct PathTracer::Impl {
+  std::vector<Triangle> triangles;
+  std::vector<Material> materials;
+  std::vector<int> emitters;            // triangle indices
+  std::vector<double> emitter_cdf;      // cumulative pick probabilities, last = 1
+  double epsilon = 0.0;
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+
+  struct Hit {
+    int triangle;
+    double distance;
+    double u, v;  // barycentrics of corners 1 and 2
+  };
+
+  std::optional<Hit> intersect(const Vec3& origin, const Vec3& direction) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rayhit{};
+    rayhit.ray.org_x = static_cast<float>(origin[0]);
+    rayhit.ray.org_y = static_cast<float>(origin[1]);
+    rayhit.ray.org_z = static_cast<float>(origin[2]);
+    rayhit.ray.dir_x = static_cast<float>(direction[0]);
+    rayhit.ray.dir_y = static_cast<float>(direction[1]);
+    rayhit.ray.dir_z = static_cast<float>(direction[2]);
+    rayhit.ray.tnear = 0.0f;
+    rayhit.ray.tfar = std::numeric_limits<float>::infinity();
+    rayhit.ray.mask = 0xFFFFFFFFu;
+    rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &rayhit);
+    if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    return Hit{static_cast<int>(rayhit.hit.primID), static_cast<double>(rayhit.ray.tfar),
+               static_cast<double>(rayhit.hit.u), static_cast<double>(rayhit.hit.v)};
+  }
+
+  bool occluded(const Vec3& from, const Vec3& to) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray{};
+    const Vec3 d = to - from;
+    ray.org_x = static_cast<float>(from[0]);
+    ray.org_y = static_cast<float>(from[1]);
+    ray.org_z = static_cast<float>(from[2]);
+    ray.dir_x = static_cast<float>(d[0]);
+    ray.dir_y = static_cast<float>(d[1]);
+    ray.dir_z = static_cast<float>(d[2]);
+    ray.tnear = 0.0f;
+    ray.tfar = 1.0f;
+    ray.mask = 0xFFFFFFFFu;
+    rtcOccluded1(scene, &context, &ray);
+    return ray.tfar < 0.0f;
+  }
+
+  // The hit point from its barycentrics, so it lies on its triangle, never
+  // beyond an edge: a point found as origin + t·direction can land just
+  // outside a closed room where two walls meet, and its next ray escape.
+  Vec3 surface_point(const Hit& hit) const {
+    const auto& c = triangles[hit.triangle].corners;
+    return (1.0 - hit.u - hit.v) * c[0] + hit.u * c[1] + hit.v * c[2];
+  }
+
+  // Where rays leave a point x of triangle t: lifted off the plane and drawn
+  // toward the triangle's inside, so that near a concave edge the origin is
+  // strictly inside the room rather than on the neighbouring wall's plane.
+  Vec3 ray_origin(const Vec3& x, const Triangle& t) const {
+    Vec3 inward = t.centroid - x;
+    const double length = inward.norm();
+    if (length > 0) inward /= length;
+    return x + epsilon * (t.normal + inward);
+  }
+
+  // Probability density, per unit solid angle at x, that next-event
+  // estimation picks the point y on emitter triangle `index` at squared
+  // distance d2, seen under cosθy at y.
+  double emitter_density(int index, double d2, double cos_y) const {
+    return triangles[index].pick_probability / triangles[index].area * d2 / cos_y;
+  }
+
+  // Next-event estimation at x (unit normal n): a point sampled on the
+  // emitters by area, weighted by the balance heuristic against the cosine
+  // bounce (Veach and Guibas 1995). Returns an estimate of the weighted part
+  // of ∫ Ke cosθx V / π dω, to be multiplied by Kd. The weight bounds the
+  // estimate by Ke, where plain area sampling has unbounded variance (x near
+  // an emitter that meets its surface at a corner, as in the furnace).
+  Rgb direct(const Vec3& x, const Vec3& origin, const Vec3& n, SampleStream& rng) const {
+    const double pick = rng.next();
+    const double s = rng.next(), t = rng.next();
+    if (emitters.empty()) return Rgb(0, 0, 0);
+    const std::size_t k = std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(emitter_cdf.begin(), emitter_cdf.end(), pick) - emitter_cdf.begin()),
+        emitters.size() - 1);
+    const Triangle& e = triangles[emitters[k]];
+    // Uniform point on the triangle (square-root parametrisation).
+    const double r = std::sqrt(s);
+    const Vec3 y = (1.0 - r) * e.corners[0] + r * (1.0 - t) * e.corners[1] + r * t * e.corners[2];
+    Vec3 w = y - x;
+    const double d2 = w.sqrnorm();
+    if (!(d2 > 0)) return Rgb(0, 0, 0);
+    w /= std::sqrt(d2);
+    const double cos_x = OpenMesh::dot(n, w);
+    const double cos_y = -OpenMesh::dot(e.normal, w);
+    if (cos_x <= 0 || cos_y <= 0) return Rgb(0, 0, 0);
+    if (occluded(origin, ray_origin(y, e))) return Rgb(0, 0, 0);
+    // (Ke cosθx/π) / p_light, times p_light / (p_light + p_bounce).
+    const double p_bounce = cos_x / M_PI;
+    return materials[e.material].emission * (p_bounce / (emitter_density(emitters[k], d2, cos_y) + p_bounce));
+  }
+
+  // One path from the camera: Ke where the camera ray lands in full; at
+  // every later vertex next-event estimation, and Ke where a bounce lands on
+  // an emitter, each with its balance-heuristic weight. `hit` is where the
+  // camera ray in `direction` lands, traced by the caller (once per pixel
+  // when every sample goes through the pixel centre).
+  Rgb radiance(const Vec3& direction, std::optional<Hit> hit, SampleStream& rng) const {
+    if (!hit) return Rgb(0, 0, 0);
+    Vec3 dir = direction;
+    const Triangle* tri = &triangles[hit->triangle];
+    if (OpenMesh::dot(tri->normal, dir) >= 0) return Rgb(0, 0, 0);  // back sides are black (DESIGN §3)
+    Vec3 x = surface_point(*hit);
+    Rgb sum = materials[tri->material].emission;
+    Rgb throughput(1, 1, 1);
+    for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
+      const Rgb& kd = materials[tri->material].reflectance;
+      if (!(max_channel(kd) > 0)) break;
+      const Vec3& n = tri->normal;
+      const Vec3 origin = ray_origin(x, *tri);
+      sum += times(throughput, times(kd, direct(x, origin, n, rng)));
+      // Cosine-weighted sampling: BRDF·cos/pdf = Kd.
+      throughput = times(throughput, kd);
+      const double survive = std::min(kMaxSurvival, max_channel(throughput));
+      if (!(rng.next() < survive)) break;
+      throughput /= survive;
+      const double u = rng.next(), v = rng.next();
+      Vec3 t, b;
+      frame_around(n, t, b);
+      const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
+      const double cos_x = std::sqrt(std::max(0.0, 1.0 - u));
+      dir = (r * std::cos(phi)) * t + (r * std::sin(phi)) * b + cos_x * n;
+      hit = intersect(origin, dir);
+      if (!hit) break;
+      tri = &triangles[hit->triangle];
+      const double cos_y = -OpenMesh::dot(tri->normal, dir);
+      if (!(cos_y > 0)) break;
+      x = surface_point(*hit);
+      if (tri->pick_probability > 0) {
+        const double p_bounce = cos_x / M_PI;
+        const double d2 = hit->distance * hit->distance;
+        const double weight = p_bounce / (p_bounce + emitter_density(hit->triangle, d2, cos_y));
+        sum += times(throughput, materials[tri->material].emission) * weight;
+      }
+    }
+    return sum;
+  }
+};
+
+PathTracer::PathTracer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.materials = scene.materials;
+  double magnitude = 0.0;
+  const Bounds bounds = scene_bounds(scene);
+  for (const Surface& surface : scene.surfaces) {
+    if (surface.material < 0 || surface.material >= static_cast<int>(m.materials.size())) {
+      throw std::runtime_error("surface " + surface.name + ": material index out of range");
+    }
+    for (const Vec3& p : surface.points) {
+      magnitude = std::max({magnitude, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+    }
+    for (std::size_t pi = 0; pi < surface.polygons.size(); ++pi) {
+      const std::vector<int>& poly = surface.polygons[pi];
+      // Newell's normal: the polygon's front even when it is not convex.
+      Vec3 normal(0, 0, 0);
+      for (std::size_t i = 0; i < poly.size(); ++i) {
+        normal += OpenMesh::cross(surface.points[poly[i]], surface.points[poly[(i + 1) % poly.size()]]);
+      }
+      if (!(normal.norm() > 0)) continue;  // zero area: nothing to hit
+      normal.normalize();
+      Vec3 u, v;
+      frame_around(normal, u, v);
+      std::vector<std::array<double, 2>> q;
+      for (int i : poly) q.push_back({OpenMesh::dot(surface.points[i], u), OpenMesh::dot(surface.points[i], v)});
+      const auto pieces = triangulate(q);
+      if (!pieces) {
+        throw std::runtime_error("surface " + surface.name + ": polygon " + std::to_string(pi) +
+                                 " is self-intersecting; the path tracer cannot triangulate it");
+      }
+      for (const auto& piece : *pieces) {
+        Triangle t;
+        for (int k = 0; k < 3; ++k) t.corners[k] = surface.points[poly[piece[k]]];
+        const Vec3 c = OpenMesh::cross(t.corners[1] - t.corners[0], t.corners[2] - t.corners[0]);
+        t.area = 0.5 * c.norm();
+        if (!(t.area > 0)) continue;
+        t.normal = c / (2.0 * t.area);
+        t.centroid = (t.corners[0] + t.corners[1] + t.corners[2]) / 3.0;
+        t.material = surface.material;
+        m.triangles.push_back(t);
+      }
+    }
+  }
+  m.epsilon = kRelativeEpsilon * std::max({bounds.diagonal(), magnitude, 1e-30});
+
+  // Emitters are picked in proportion to their power (area × summed Ke).
+  double total = 0.0;
+  std::vector<double> weights;
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const Material& mat = m.materials[m.triangles[i].material];
+    if (!mat.is_emitter()) continue;
+    const double w = m.triangles[i].area * (mat.emission[0] + mat.emission[1] + mat.emission[2]);
+    if (!(w > 0)) continue;
+    m.emitters.push_back(static_cast<int>(i));
+    weights.push_back(w);
+    total += w;
+  }
+  double running = 0.0;
+  for (std::size_t k = 0; k < weights.size(); ++k) {
+    running += weights[k];
+    m.emitter_cdf.push_back(running / total);
+    m.triangles[m.emitters[k]].pick_probability = weights[k] / total;
+  }
+  if (!m.emitter_cdf.empty()) m.emitter_cdf.back() = 1.0;
+
+  m.device = rtcNewDevice("threads=0");
+  if (!m.device) throw std::runtime_error("cannot create an Embree device");
+  m.scene = rtcNewScene(m.device);
+  // Robust mode: rays grazing shared edges must not leak through.
+  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
+  if (!m.triangles.empty()) {
+    RTCGeometry geometry = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), 3 * m.triangles.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), m.triangles.size()));
+    throw_on_error(m.device, "allocating geometry");
+    for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        for (int c = 0; c < 3; ++c) vertices[9 * i + 3 * k + c] = static_cast<float>(m.triangles[i].corners[k][c]);
+        indices[3 * i + k] = static_cast<unsigned>(3 * i + k);
+      }
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(m.scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(m.scene);
+  throw_on_error(m.device, "building the scene");
+}
+
+PathTracer::~PathTracer() {
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+std::size_t PathTracer::triangle_count() const { return impl_->triangles.size(); }
+std::size_t PathTracer::emitter_triangle_count() const { return impl_->emitters.size(); }
+
+std::vector<std::uint8_t> PathTracer::coverage(const Camera& camera) const {
+  const CameraRays rays(camera);
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(camera.width) * camera.height, 0);
+  tbb::parallel_for(0, camera.height, [&](int y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const bool hit = impl_->intersect(rays.origin(), rays.direction(x, y)).has_value();
+      mask[static_cast<std::size_t>(y) * camera.width + x] = hit ? 1 : 0;
+    }
+  });
+  return mask;
+}
+
+ReferenceImage PathTracer::render(const Camera& camera, const PathTraceOptions& options,
+                                  const std::function<void(const PathTraceProgress&)>& progress) const {
+  if (camera.width <= 0 || camera.height <= 0) throw std::invalid_argument("path tracer: the camera has no pixels");
+  if (options.spp < 2) {
+    throw std::invalid_argument("path tracer: at least 2 samples per pixel (the noise needs two halves)");
+  }
+  if (options.target_noise > 0 && options.max_spp < options.spp) {
+    throw std::invalid_argument("path tracer: the maximum samples per pixel is below the first round's");
+  }
+  const Impl& m = *impl_;
+  const CameraRays rays(camera);
+  const int width = camera.width, height = camera.height;
+  const std::size_t pixel_count = static_cast<std::size_t>(width) * height;
+  std::vector<PixelSums> sums(pixel_count);
+
+  ReferenceImage result;
+  result.mask = coverage(camera);
+  int done = 0;
+  int round_spp = options.spp;
+  std::mutex progress_mutex;
+  while (true) {
+    const int first = done, last = done + round_spp;
+    std::atomic<int> rows_done{0};
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+      for (int y = range.begin(); y != range.end(); ++y) {
+        for (int x = 0; x < width; ++x) {
+          const std::size_t pixel = static_cast<std::size_t>(y) * width + x;
+          PixelSums& p = sums[pixel];
+          const Vec3 centre = rays.direction(x, y);
+          const auto centre_hit = options.jitter ? std::nullopt : m.intersect(rays.origin(), centre);
+          for (int s = first; s < last; ++s) {
+            SampleStream rng(sample_key(options.seed, pixel, static_cast<std::uint64_t>(s)));
+            Rgb l;
+            if (options.jitter) {
+              const double jx = rng.next(), jy = rng.next();
+              const Vec3 d = rays.direction_at(x + jx, y + jy);
+              l = m.radiance(d, m.intersect(rays.origin(), d), rng);
+            } else {
+              l = m.radiance(centre, centre_hit, rng);
+            }
+            for (int c = 0; c < 3; ++c) p.half[s & 1][c] += l[c];
+            const double lum = luminance(l);
+            const double delta = lum - p.mean_luminance;
+            p.mean_luminance += delta / (s + 1);
+            p.m2_luminance += delta * (lum - p.mean_luminance);
+          }
+        }
+        const int finished = ++rows_done;
+        if (progress) {
+          const std::lock_guard<std::mutex> lock(progress_mutex);
+          progress({first, last, static_cast<double>(finished) / height, result.noise});
+        }
+      }
+    });
+    done = last;
+    ++result.rounds;
+
+    // Noise from the two halves; serial, so the sums do not depend on threads.
+    const double n_even = (done + 1) / 2, n_odd = done / 2;
+    const double half_factor = n_even * n_odd / (static_cast<double>(done) * done);
+    double se2_sum = 0.0, luminance_sum = 0.0;
+    std::size_t covered = 0;
+    for (std::size_t i = 0; i < pixel_count; ++i) {
+      if (!result.mask[i]) continue;
+      Rgb a, b, mean;
+      for (int c = 0; c < 3; ++c) {
+        a[c] = sums[i].half[0][c] / n_even;
+        b[c] = sums[i].half[1][c] / n_odd;
+        mean[c] = (sums[i].half[0][c] + sums[i].half[1][c]) / done;
+      }
+      const double d = luminance(a) - luminance(b);
+      se2_sum += d * d * half_factor;
+      luminance_sum += luminance(mean);
+      ++covered;
+    }
+    result.spp = done;
+    result.noise_rms = covered ? std::sqrt(se2_sum / covered) : 0.0;
+    result.mean_luminance = covered ? luminance_sum / covered : 0.0;
+    result.noise = result.mean_luminance > 0 ? result.noise_rms / result.mean_luminance : 0.0;
+    if (!(options.target_noise > 0) || result.noise <= options.target_noise || done >= options.max_spp) break;
+    round_spp = std::min(done, options.max_spp - done);
+  }
+
+  result.radiance = Image(width, height);
+  result.standard_error.assign(pixel_count, 0.0f);
+  for (std::size_t i = 0; i < pixel_count; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      result.radiance.rgb[3 * i + c] = static_cast<float>((sums[i].half[0][c] + sums[i].half[1][c]) / result.spp);
+    }
+    const double variance = sums[i].m2_luminance / (result.spp - 1);
+    result.standard_error[i] = static_cast<float>(std::sqrt(std::max(0.0, variance) / result.spp));
+  }
+  return result;
+}
+
+}  // namespace lhr

@@ -1,0 +1,87 @@
+#pragma once
+// The reference image (DESIGN §5 "Reference"): unbiased Monte Carlo path
+// tracing of the Lambertian scenes of the scene contract (§3), with
+// next-event estimation on emitters (triangles picked in proportion to their
+// power, points uniform by area), cosine-weighted bounces, the two combined
+// by multiple importance sampling, and Russian roulette. It builds its own
+// Embree scene from the input polygons and shares nothing with the radiosity
+// solvers but the camera model, so it is an independent check of them,
+// aligned pixel for pixel with the Gouraud view.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "io/image_io.hpp"
+#include "mesh/scene.hpp"
+
+namespace lhr {
+
+struct PathTraceOptions {
+  int spp = 64;  // samples per pixel (of the first round when a target noise is set)
+  std::uint64_t seed = 1;
+  // > 0: keep doubling the samples in rounds until the relative noise is at
+  // most this or max_spp is reached. The result equals one render at the
+  // final sample count: sample i of a pixel is the same in either.
+  double target_noise = 0.0;
+  int max_spp = 1024;
+  // false: every sample through the pixel centre, the point the Gouraud view
+  // samples (DESIGN §5), so the metrics compare values at the same points and
+  // edges are not penalised for aliasing; true: samples uniform over each
+  // pixel (box filter), an antialiased image.
+  bool jitter = false;
+};
+
+struct PathTraceProgress {
+  int spp_done = 0;        // samples per pixel finished before this round
+  int spp_round_end = 0;   // samples per pixel when this round ends
+  double round_fraction = 0.0;
+  double noise = 0.0;  // relative noise of the spp_done samples (0 in the first round)
+};
+
+struct ReferenceImage {
+  Image radiance;  // mean radiance per pixel, scene units; 0 where nothing is seen
+  // 1 where the ray through the pixel centre hits a surface (as in the
+  // Gouraud view); metrics exclude the other pixels as background.
+  std::vector<std::uint8_t> mask;
+  // Per pixel: standard error of the mean luminance, from the sample variance.
+  std::vector<float> standard_error;
+  int spp = 0;
+  int rounds = 0;
+  // Noise from two half-sample images A (even samples) and B (odd samples):
+  // the mean of all samples has standard error |A−B|/2 per pixel (for equal
+  // halves), so noise_rms is the RMS of that over the masked pixels
+  // (luminance, scene units) and noise = noise_rms / mean_luminance.
+  double noise = 0.0;
+  double noise_rms = 0.0;
+  double mean_luminance = 0.0;  // over the masked pixels
+};
+
+class PathTracer {
+ public:
+  // Triangulates every input polygon of every surface (fan, or ear clipping
+  // for non-convex ones). Throws std::runtime_error naming a surface whose
+  // polygon cannot be triangulated.
+  explicit PathTracer(const Scene& scene);
+  ~PathTracer();
+  PathTracer(const PathTracer&) = delete;
+  PathTracer& operator=(const PathTracer&) = delete;
+
+  // Results depend on (scene, camera, options) only, not on the thread count.
+  // progress is called from worker threads, one call at a time.
+  ReferenceImage render(const Camera& camera, const PathTraceOptions& options,
+                        const std::function<void(const PathTraceProgress&)>& progress = {}) const;
+
+  // 1 where the ray through the pixel centre hits a surface.
+  std::vector<std::uint8_t> coverage(const Camera& camera) const;
+
+  std::size_t triangle_count() const;
+  std::size_t emitter_triangle_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lhr

@@ -12,6 +12,7 @@
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/options.hpp"
+#include "apps/tone_options.hpp"
 #include "io/image_io.hpp"
 #include "io/json_file.hpp"
 #include "io/mesh_io.hpp"
@@ -90,9 +91,6 @@ int run_solve(const Args& args) {
   const bool progress = !quiet && ::isatty(STDERR_FILENO);
   const std::string method = vm["method"].as<std::string>();
   if (method != "linear" && method != "classical") throw po::error("--method must be linear or classical");
-  if (vm["tone-map"].as<std::string>() != "tumblin-rushmeier" && vm["tone-map"].as<std::string>() != "linear") {
-    throw po::error("--tone-map must be tumblin-rushmeier or linear");
-  }
   const int threads = vm["threads"].as<int>();
   if (threads < 0) throw po::error("--threads must be 0 or positive");
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism,
@@ -153,26 +151,7 @@ int run_solve(const Args& args) {
 
   // The tone map shapes the linear method's receiver oracle (paper §4.1) as
   // well as the images and vertex colours.
-  ToneMapChoice& tone = settings.tone;
-  // A flag given on the command line wins; else the scene file; else the flag's default.
-  const ToneMapSettings& file_tone = scene.settings.tone_map;
-  const auto pick = [&](const char* flag, const std::optional<double>& from_file) {
-    return (!vm[flag].defaulted() || !from_file) ? vm[flag].as<double>() : *from_file;
-  };
-  const std::string tone_name = (!vm["tone-map"].defaulted() || !file_tone.kind) ? vm["tone-map"].as<std::string>()
-                                                                                 : *file_tone.kind;
-  tone.kind = tone_name == "linear" ? ToneMapChoice::Kind::kLinear : ToneMapChoice::Kind::kTumblinRushmeier;
-  tone.world_adaptation = pick("adaptation", file_tone.world_adaptation);
-  tone.units_to_cd_m2 = pick("units-to-cd", file_tone.units_to_cd_m2);
-  tone.linear_white = pick("white", file_tone.white);
-  tone.display_max_cd_m2 = pick("display-max", file_tone.display_max_cd_m2);
-  tone.max_contrast = pick("max-contrast", file_tone.max_contrast);
-  tone.gamma = pick("gamma", file_tone.gamma);
-  if (!(tone.units_to_cd_m2 > 0) || !(tone.display_max_cd_m2 > 0) || !(tone.max_contrast > 1) ||
-      !(tone.gamma > 0) || !(tone.world_adaptation >= 0) || !(tone.linear_white >= 0)) {
-    throw po::error("tone map: --units-to-cd, --display-max and --gamma must be positive, --max-contrast above 1, "
-                    "--adaptation and --white zero or positive");
-  }
+  settings.tone = tone_choice_from(vm, &scene.settings.tone_map);
 
   const auto report = [&](int iteration, double change) {
     throw_if_interrupted();

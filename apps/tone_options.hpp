@@ -1,6 +1,6 @@
 #pragma once
-// Tone-map flags for commands that turn radiance into display values without
-// solving (reference, compare). Precedence as in `lhr solve`: a flag given on
+// Tone-map flags (reference, compare; `lhr solve` declares its own with its
+// own help) and the choice they make. Precedence: a flag given on
 // the command line, else the scene file's "tone_map" block, else the flag's
 // default (DESIGN §3, §4 "Tone map M").
 

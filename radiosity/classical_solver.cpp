@@ -303,11 +303,6 @@ bool ClassicalSolver::refine_links() {
   };
 
   for (int s = 0; s < model_.num_surfaces(); ++s) {
-    // A black receiver reflects nothing, so no error in what it gathers is
-    // seen: its links are never refined, only kept so that its irradiance
-    // (what it absorbs) is known.
-    const Rgb& rho = model_.material(s).reflectance;
-    const bool reflects = std::max({rho[0], rho[1], rho[2]}) > 0;
     // Nodes created during this pass have no links yet: the pass goes one level deeper at most.
     const NodeId count = static_cast<NodeId>(model_.hierarchy(s).num_nodes());
     for (NodeId n = 0; n < count; ++n) {
@@ -331,7 +326,7 @@ bool ClassicalSolver::refine_links() {
         }
         const double transfer = luminance(element_radiance(link.shooter)) * link.oracle;
         const bool can_receiver = splittable(receiver), can_shooter = splittable(link.shooter);
-        if (!reflects || !(transfer > threshold) || (!can_receiver && !can_shooter)) {
+        if (!(transfer > threshold) || (!can_receiver && !can_shooter)) {
           kept.push_back(link);
           continue;
         }

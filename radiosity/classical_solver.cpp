@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "radiosity/form_factor.hpp"
+#include "radiosity/root_clusters.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/tone_map.hpp"
 
@@ -47,11 +48,11 @@ ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& opti
   min_area_ = std::sqrt(3.0) / 4.0 * min_edge * min_edge;
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     sync_node_arrays(s);
-    build_clusters(s);
+    build_clusters(s, root_exposure(model_, s));
   }
 }
 
-void ClassicalSolver::build_clusters(int s) {
+void ClassicalSolver::build_clusters(int s, const std::vector<double>& root_exposure) {
   // Median splits of the root centroids along the longest extent: a balanced
   // tree whose clusters are spatially compact, so a far cluster is a fair
   // stand-in for its triangles in the BF test.
@@ -63,7 +64,7 @@ void ClassicalSolver::build_clusters(int s) {
   clusters.push_back(std::move(top));
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300), centroid(0, 0, 0), normal(0, 0, 0);
-    double area = 0.0;
+    double area = 0.0, exposed = 0.0;
     for (NodeId r : clusters[c].roots) {
       const double a = model_.area(s, r);
       const Vec3 p = model_.centroid(s, r);
@@ -72,8 +73,10 @@ void ClassicalSolver::build_clusters(int s) {
       centroid += a * p;
       normal += a * model_.normal(s, r);
       area += a;
+      exposed += a * root_exposure[r];
     }
     clusters[c].area = area;
+    clusters[c].exposed_area = exposed;
     clusters[c].centroid = area > 0 ? centroid / area : centroid;
     clusters[c].normal = normal.norm() > 0 ? normal.normalized() : normal;
     if (clusters[c].roots.size() <= kLeafClusterRoots) continue;
@@ -407,9 +410,13 @@ double ClassicalSolver::push_pull() {
     };
     for (std::size_t f = 0; f < h.num_roots(); ++f) visit(visit, static_cast<NodeId>(f), Rgb(0, 0, 0));
     for (RootCluster& c : st.clusters) {
-      Rgb weighted(0, 0, 0);
-      for (NodeId r : c.roots) weighted += model_.area(s, r) * st.radiance[r];
-      c.radiance = weighted / std::max(c.area, 1e-300);
+      // Reflected power goes to the exposed area; emission is a property of
+      // every point (a closed-off part of a lamp shines into the back of
+      // what covers it).
+      Rgb reflected(0, 0, 0);
+      for (NodeId r : c.roots) reflected += model_.area(s, r) * (st.radiance[r] - m.emission);
+      c.radiance = m.emission;
+      if (c.exposed_area > 0) c.radiance += reflected / c.exposed_area;
     }
   });
   stats_.seconds_push_pull += seconds_since(start);
@@ -433,9 +440,19 @@ void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
   stats_.links = count_links();
   stats_.nodes = 0;
   stats_.leaves = 0;
+  stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = stats_.bytes_links = 0;
   for (int s = 0; s < model_.num_surfaces(); ++s) {
-    stats_.nodes += model_.hierarchy(s).num_nodes();
-    stats_.leaves += model_.hierarchy(s).num_leaves();
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    const SurfaceState& st = surfaces_[s];
+    stats_.nodes += h.num_nodes();
+    stats_.leaves += h.num_leaves();
+    stats_.bytes_geometry += h.geometry_bytes();
+    stats_.bytes_hierarchy += h.hierarchy_bytes();
+    stats_.bytes_values += (st.radiance.capacity() + st.gathered.capacity()) * sizeof(Rgb) +
+                           st.links.capacity() * sizeof(std::vector<Link>) +
+                           st.clusters.capacity() * sizeof(RootCluster);
+    for (const RootCluster& c : st.clusters) stats_.bytes_values += c.roots.capacity() * sizeof(NodeId);
+    for (const auto& l : st.links) stats_.bytes_links += l.capacity() * sizeof(Link);
   }
 }
 

@@ -7,6 +7,15 @@
 // binary tree of root clusters whose top is the whole surface (the input
 // polygon of Hanrahan's method): shooters start as whole surfaces and open
 // up only as far as the BF test asks.
+//
+// A cluster shoots with its power spread over its exposed area, not its
+// whole area: parts of a surface closed off by others (the floor under a
+// block, the ceiling above a lamp hung just below it) gather nothing and
+// are seen by no receiver, so an area average would dim what the
+// receivers do see and lose that share of the surface's power (measured
+// on the Cornell box: 2.7 % of the emitted power). Which parts are closed
+// off: root_exposure() in radiosity/root_clusters.hpp.
+//
 // Radiance, not radiosity, is carried: L = Le + ρ Σ F L (B = πL, same form).
 
 #include <cstddef>
@@ -46,6 +55,11 @@ struct ClassicalStats {
   double seconds_gather = 0.0;
   double seconds_push_pull = 0.0;
   double final_change = 0.0;  // relative to the brightest emitted luminance
+  // Memory, bytes (allocated capacity), as LinearStats counts it.
+  std::size_t bytes_geometry = 0;   // vertex positions and initial meshes
+  std::size_t bytes_hierarchy = 0;  // quadtree nodes
+  std::size_t bytes_values = 0;     // per-node radiance, gathered value, link list header; root clusters
+  std::size_t bytes_links = 0;
 };
 
 class ClassicalSolver {
@@ -85,7 +99,8 @@ class ClassicalSolver {
     double area = 0.0;
     Vec3 centroid{0, 0, 0};
     Vec3 normal{0, 0, 0};  // unit mean normal
-    Rgb radiance{0, 0, 0};
+    double exposed_area = 0.0;  // area of its points that are not closed off
+    Rgb radiance{0, 0, 0};      // emission + reflected power / (π exposed_area)
   };
   struct Link {
     Element shooter;
@@ -113,7 +128,7 @@ class ClassicalSolver {
   void gather();
   double push_pull();
   void sync_node_arrays(int s);
-  void build_clusters(int s);
+  void build_clusters(int s, const std::vector<double>& root_exposure);
   static bool is_cluster(const Element& e) { return e.node <= kSurfaceElement; }
   const RootCluster& cluster(const Element& e) const { return surfaces_[e.surface].clusters[-(e.node + 2)]; }
   const Rgb& element_radiance(const Element& e) const;

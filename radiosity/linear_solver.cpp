@@ -65,7 +65,8 @@ LinearSolver::LinearSolver(SceneModel& model, LinearOptions options) : model_(mo
     max_emitted_ = std::max(max_emitted_, luminance(m.emission));
     total_emitted_power_ += M_PI * model_.surface_area(s) * luminance(m.emission);
     SurfaceState& st = surfaces_[s];
-    st.clusters = build_root_clusters(model_, s);
+    st.root_exposure = root_exposure(model_, s);
+    st.clusters = build_root_clusters(model_, s, st.root_exposure);
     st.cluster_radiance.assign(st.clusters.size(), m.emission);
     sync_vertices(s);
   }
@@ -310,14 +311,18 @@ double LinearSolver::push() {
       st.radiance[v] = value;
     }
     // Pull for the constant-basis shooters: the exact mean of the linear
-    // function over each cluster's roots.
+    // function over each cluster's roots, weighted by how open each root is
+    // (a floor shoots with what its lit part gives, not the part under a block).
     for (std::size_t c = 0; c < st.clusters.size(); ++c) {
+      const RootCluster& cluster = st.clusters[c];
+      const bool open = cluster.exposed_area > 0;
       Rgb weighted(0, 0, 0);
-      for (NodeId root : st.clusters[c].roots) {
+      for (NodeId root : cluster.roots) {
         const auto& k = model_.hierarchy(r).corners(root);
-        weighted += model_.area(r, root) / 3.0 * (st.radiance[k[0]] + st.radiance[k[1]] + st.radiance[k[2]]);
+        const double weight = model_.area(r, root) * (open ? st.root_exposure[root] : 1.0);
+        weighted += weight / 3.0 * (st.radiance[k[0]] + st.radiance[k[1]] + st.radiance[k[2]]);
       }
-      st.cluster_radiance[c] = weighted / std::max(st.clusters[c].area, 1e-300);
+      st.cluster_radiance[c] = weighted / std::max(open ? cluster.exposed_area : cluster.area, 1e-300);
     }
   });
   stats_.seconds_push_pull += seconds_since(start);

@@ -123,6 +123,7 @@ class LinearSolver {
     std::vector<std::array<VertexId, 2>> parents;  // per vertex: the edge it is the midpoint of
     std::vector<Vec3> approach;  // per vertex: unit direction into the surface
     std::vector<RootCluster> clusters;
+    std::vector<double> root_exposure;  // per root: its fraction open to the scene
     std::vector<Rgb> cluster_radiance;  // mean over each cluster
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it

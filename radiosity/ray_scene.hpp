@@ -27,6 +27,16 @@ struct ShadowRay {
   Vec3 to;
 };
 
+// How a batch of shadow rays is handed to Embree (they give identical
+// answers; BENCHMARKS.md compares their speed).
+enum class ShadowQuery {
+  kSingle,    // one rtcOccluded1 per ray
+  kStream,    // rtcOccluded1M over the batch
+  kPacket4,   // rtcOccluded4 per 4 rays
+  kPacket8,   // rtcOccluded8 per 8 rays
+  kPacket16,  // rtcOccluded16 per 16 rays
+};
+
 class RayScene {
  public:
   // One Embree geometry per surface mesh (geometry id = surface index).
@@ -45,8 +55,10 @@ class RayScene {
   // Whether anything blocks the open segment (from, to). End points are used
   // as given: lift them off their surfaces first (lift()).
   bool occluded(const Vec3& from, const Vec3& to) const;
-  // Many segments at once (Embree stream queries); blocked[i] = 1 if occluded.
+  // Many segments at once, the fastest way measured; blocked[i] = 1 if occluded.
   void occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) const;
+  // The same with a chosen Embree query.
+  void occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked, ShadowQuery query) const;
 
   // A point lifted off its surface along the unit normal n by epsilon().
   Vec3 lift(const Vec3& p, const Vec3& n) const { return p + epsilon_ * n; }

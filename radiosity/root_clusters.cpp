@@ -1,19 +1,27 @@
 #include "radiosity/root_clusters.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "radiosity/sampling.hpp"
 
 namespace lhr {
 
-std::vector<RootCluster> build_root_clusters(const SceneModel& model, int s, std::size_t leaf_roots) {
+std::vector<RootCluster> build_root_clusters(const SceneModel& model, int s, const std::vector<double>& root_exposure,
+                                            std::size_t leaf_roots) {
   std::vector<RootCluster> clusters;
   RootCluster top;
   for (std::size_t f = 0; f < model.hierarchy(s).num_roots(); ++f) top.roots.push_back(static_cast<NodeId>(f));
   clusters.push_back(std::move(top));
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300), centroid(0, 0, 0), normal(0, 0, 0);
-    double area = 0.0;
+    double area = 0.0, exposed = 0.0;
     for (NodeId r : clusters[c].roots) {
       const double a = model.area(s, r);
+      exposed += a * root_exposure[r];
       const Vec3 p = model.centroid(s, r);
       lo.minimize(p);
       hi.maximize(p);
@@ -22,6 +30,7 @@ std::vector<RootCluster> build_root_clusters(const SceneModel& model, int s, std
       area += a;
     }
     clusters[c].area = area;
+    clusters[c].exposed_area = exposed;
     clusters[c].centroid = area > 0 ? centroid / area : centroid;
     clusters[c].normal = normal.norm() > 0 ? normal.normalized() : normal;
     if (clusters[c].roots.size() <= leaf_roots) continue;
@@ -41,6 +50,38 @@ std::vector<RootCluster> build_root_clusters(const SceneModel& model, int s, std
     clusters.push_back(std::move(right));
   }
   return clusters;
+}
+
+std::vector<double> root_exposure(const SceneModel& model, int s) {
+  constexpr int kPoints = 4;      // k² points per root
+  constexpr int kDirections = 4;  // rays tried per point
+  const RayScene& rays = model.rays();
+  std::vector<double> exposure(model.hierarchy(s).num_roots(), 1.0);
+  tbb::parallel_for(std::size_t{0}, exposure.size(), [&](std::size_t r) {
+    const NodeId root = static_cast<NodeId>(r);
+    const auto triangle = model.triangle(s, root);
+    const Vec3 n = model.normal(s, root);
+    const Vec3 t1 =
+        (std::abs(n[0]) < 0.9 ? OpenMesh::cross(n, Vec3(1, 0, 0)) : OpenMesh::cross(n, Vec3(0, 1, 0))).normalized();
+    const Vec3 t2 = OpenMesh::cross(n, t1);
+    const std::uint64_t key = sample_key(static_cast<std::uint64_t>(s), r, 0xE0);
+    const auto points = stratified_triangle_samples(kPoints, key);
+    std::size_t closed = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 origin = rays.lift(at(triangle, points[i]), n);
+      bool all_back = true;
+      for (int d = 0; d < kDirections && all_back; ++d) {
+        const double u = unit_double(sample_key(key, i, 2 * d + 1));
+        const double phi = 2.0 * M_PI * unit_double(sample_key(key, i, 2 * d + 2));
+        const Vec3 dir = std::sqrt(u) * (std::cos(phi) * t1 + std::sin(phi) * t2) + std::sqrt(1.0 - u) * n;
+        const std::optional<RayHit> hit = rays.intersect(origin, dir);
+        all_back = hit && OpenMesh::dot(model.normal(hit->surface, hit->face), dir) > 0.0;
+      }
+      closed += all_back ? 1 : 0;
+    }
+    exposure[r] = 1.0 - static_cast<double>(closed) / static_cast<double>(points.size());
+  });
+  return exposure;
 }
 
 }  // namespace lhr

@@ -15,6 +15,7 @@ struct RootCluster {
   std::vector<NodeId> roots;
   std::int32_t first_child = -1;  // two consecutive child clusters, or -1: children are the roots
   double area = 0.0;
+  double exposed_area = 0.0;  // Σ area × exposed fraction of its roots
   Vec3 centroid{0, 0, 0};
   Vec3 normal{0, 0, 0};  // unit mean normal
 };
@@ -23,6 +24,14 @@ struct RootCluster {
 // the longest extent: a balanced tree of spatially compact clusters, so a far
 // cluster is a fair stand-in for its triangles. Clusters of at most
 // `leaf_roots` roots open directly onto their roots.
-std::vector<RootCluster> build_root_clusters(const SceneModel& model, int surface, std::size_t leaf_roots = 4);
+std::vector<RootCluster> build_root_clusters(const SceneModel& model, int surface,
+                                            const std::vector<double>& root_exposure, std::size_t leaf_roots = 4);
+
+// Per root of a surface: the fraction of it that is open to the scene. A
+// point is closed off when every one of a few cosine-distributed rays from it
+// ends on the back of a surface (the floor under a block). A whole-surface
+// shooter stands for its open part only: averaging the closed, unlit part
+// into its value would lose energy.
+std::vector<double> root_exposure(const SceneModel& model, int surface);
 
 }  // namespace lhr

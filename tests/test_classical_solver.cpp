@@ -46,41 +46,46 @@ TEST(ClassicalSolver, ReceiverUnderASquareEmitterMatchesTheFormFactor) {
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
   SceneModel model(scene, meshing);
+  const int receiver = scene.materials[scene.surfaces[0].material].name == "receiver" ? 0 : 1;
+  // Constant elements have no vertex values of their own: a vertex takes the
+  // area-weighted mean of the leaves around it, an O(h·∇F) error (one-sided
+  // on the receiver's border). BF refinement splits where the transfer is
+  // large, not where F varies, and splits the emitter along with the
+  // receiver (the larger of the two), so it cannot give a uniformly fine
+  // receiver cheaply; the receiver is refined five levels below its initial
+  // triangles here instead (edges ≈ h/32), and ε_BF = 1 keeps the solver
+  // from refining further. Measured worst relative errors: 1.1 % on the
+  // border, 0.5 % inside (2.3 % and 1.1 % four levels down).
+  SurfaceHierarchy& h = model.hierarchy(receiver);
+  for (int level = 0; level < 5; ++level) {
+    for (NodeId leaf : h.leaves()) h.split(leaf);
+  }
   ClassicalOptions options;
-  options.eps_bf = 1e-3;
+  options.eps_bf = 1.0;
   ClassicalSolver solver(model, options);
   solver.solve();
-  const int receiver = scene.materials[scene.surfaces[0].material].name == "receiver" ? 0 : 1;
   const double lo = 0.5 - size / 2, hi = 0.5 + size / 2;
   const std::vector<Vec3> light{Vec3(lo, lo, height), Vec3(lo, hi, height), Vec3(hi, hi, height), Vec3(hi, lo, height)};
+  const auto exact = [&](const Vec3& x) { return rho * le * point_polygon_form_factor(x, Vec3(0, 0, 1), light); };
   // Point collocation at element centres: every leaf holds ρ·Le·F(centre)
   // (nothing occludes, the emitter reflects nothing back).
-  const SurfaceHierarchy& h = model.hierarchy(receiver);
   for (NodeId leaf : h.leaves()) {
-    const double exact = rho * le * point_polygon_form_factor(model.centroid(receiver, leaf), Vec3(0, 0, 1), light);
-    EXPECT_NEAR(solver.radiance(receiver, leaf)[0], exact, 1e-4 * exact) << "leaf " << leaf;
+    const double expected = exact(model.centroid(receiver, leaf));
+    ASSERT_NEAR(solver.radiance(receiver, leaf)[0], expected, 1e-4 * expected) << "leaf " << leaf;
   }
-  // Vertex values average the leaves around a vertex (constant elements have
-  // none of their own): each lies between the smallest and largest exact
-  // centre value of the leaves it touches.
+  // Every exported vertex, border and corners included.
   const ConformingMesh mesh = h.conforming_mesh();
   const auto values = solver.vertex_radiance(receiver, mesh);
-  std::vector<double> lowest(mesh.mesh.n_vertices(), 1e300), highest(mesh.mesh.n_vertices(), -1e300);
-  for (const auto fh : mesh.mesh.faces()) {
-    const double exact = rho * le * point_polygon_form_factor(model.centroid(receiver, mesh.leaf[fh.idx()]),
-                                                              Vec3(0, 0, 1), light);
-    for (const auto vh : mesh.mesh.fv_range(fh)) {
-      lowest[vh.idx()] = std::min(lowest[vh.idx()], exact);
-      highest[vh.idx()] = std::max(highest[vh.idx()], exact);
-    }
-  }
-  int checked = 0;
+  int border = 0;
   for (const auto vh : mesh.mesh.vertices()) {
-    EXPECT_GE(values[vh.idx()][0], lowest[vh.idx()] * (1 - 1e-4));
-    EXPECT_LE(values[vh.idx()][0], highest[vh.idx()] * (1 + 1e-4));
-    ++checked;
+    const Vec3 x = mesh.mesh.point(vh);
+    const double expected = exact(x);
+    ASSERT_GT(expected, 0.0);
+    EXPECT_NEAR(values[vh.idx()][0], expected, 0.02 * expected) << "vertex at " << x[0] << ", " << x[1];
+    border += mesh.mesh.is_boundary(vh) ? 1 : 0;
   }
-  EXPECT_GT(checked, 20);
+  EXPECT_GT(border, 100);
+  EXPECT_GT(mesh.mesh.n_vertices(), 10000u);
 }
 
 }  // namespace

@@ -1,8 +1,13 @@
 // Energy balance on the Cornell box: what the light emits is absorbed by the
-// walls or leaves through the open front, computed independently of the
-// solver's own links (a form factor to the opening, sampled visibility).
+// walls or leaves through the open front, the escaping part computed
+// independently of the solver's own links (form factors to the opening and
+// kernel-weighted visibility).
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <vector>
 
 #include "io/scene_loader.hpp"
 #include "radiosity/classical_solver.hpp"
@@ -14,13 +19,67 @@
 namespace lhr {
 namespace {
 
-// The target is 1 %. Measured: absorbed + escaped = 95.7 % of emitted in
-// every channel, the same at h = 100/50 and ε_BF = 0.01/0.003 and with 64
-// visibility rays per link, while the closed box below balances to 1 %: a
-// systematic loss specific to this scene, still to be found (the side faces
-// of the blocks gather rows of 0.88–0.96 where 1 is expected). This guards
-// the current state until then: form-factor-weighted cluster visibility and
-// facing-only sample pairs brought it from 89 %.
+// The open front of the box (z = 0), counter-clockwise seen from inside.
+const std::array<Vec3, 4> kOpening{Vec3(0, 0, 0), Vec3(552.8, 0, 0), Vec3(556, 548.8, 0), Vec3(0, 548.8, 0)};
+
+// Share of a leaf's outgoing power (constant radiance) that leaves through
+// the opening: the mean over points x of the leaf of F(x, opening) times
+// the visible share of the opening, each visibility sample weighted by the
+// point-to-point kernel cosθx cosθy / r². The unweighted share of rays
+// from the leaf's centre used before counted points of the opening behind
+// the leaf's own plane (seen from a block's top) as hidden and weighed
+// grazing directions like frontal ones: it put the escape 5 % low.
+double escaping_share(const RayScene& rays, const std::array<Vec3, 3>& leaf, const Vec3& n, std::uint64_t key) {
+  const Vec3 inward(0, 0, 1);
+  const std::array<std::array<Vec3, 3>, 2> halves{{{kOpening[0], kOpening[1], kOpening[2]},
+                                                   {kOpening[0], kOpening[2], kOpening[3]}}};
+  const auto points = stratified_triangle_samples(3, sample_key(key, 1));
+  double sum = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 x = at(leaf, points[i]);
+    const double f = point_polygon_form_factor(x, n, kOpening);
+    if (!(f > 0)) continue;
+    std::vector<ShadowRay> segments;
+    std::vector<double> weights;
+    for (std::size_t t = 0; t < halves.size(); ++t) {
+      for (const TriangleSample& ts : stratified_triangle_samples(4, sample_key(key, 2 + i, t))) {
+        const Vec3 y = at(halves[t], ts);
+        const Vec3 d = y - x;
+        const double w = std::max(0.0, OpenMesh::dot(n, d)) * std::max(0.0, -OpenMesh::dot(inward, d)) /
+                         (d.sqrnorm() * d.sqrnorm());
+        if (!(w > 0)) continue;
+        segments.push_back({rays.lift(x, n), rays.lift(y, inward)});
+        weights.push_back(w);
+      }
+    }
+    double total = 0.0, clear = 0.0;
+    if (!segments.empty()) {
+      std::vector<std::uint8_t> blocked(segments.size());
+      rays.occluded(segments, blocked);
+      for (std::size_t k = 0; k < segments.size(); ++k) {
+        total += weights[k];
+        clear += blocked[k] ? 0.0 : weights[k];
+      }
+    }
+    sum += f * (total > 0 ? clear / total : 1.0);
+  }
+  return sum / static_cast<double>(points.size());
+}
+
+// Measured (absorbed + escaped over emitted, R/G/B) at h = 100, ε_BF = 0.01:
+// 99.59 / 99.68 / 99.95 %. Before root clusters shot over their exposed
+// area only (see radiosity/classical_solver.hpp), 96.9 / 97.2 / 98.0 %: the
+// floor under the blocks and the ceiling above the lamp, dark and seen by
+// nobody, dimmed the whole-surface shooters; the earlier unweighted escape
+// estimate put that at 95.7 %.
+// At finer ε_BF the balance drifts down (ε 0.003: 98.8–99.2 %, ε 0.001:
+// 97.3–98.1 %) while the unweighted column sums (Σ A_i F_ij over receivers
+// i against shooter j's area times its share of directions that reach a
+// surface) stay within 1 %: links from coarse shooters carry their mean
+// radiance, and the more the receivers are refined the sharper the shadows
+// on those shooters; the BF test bounds each link's transfer, not that
+// correlation. This test runs at the coarse ε 0.01, where that error is
+// smallest, so that a leak in the transport itself (as above) stands out.
 TEST(EnergyBalance, CornellBoxEmittedEqualsAbsorbedPlusEscaped) {
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   MeshingOptions meshing;
@@ -32,42 +91,23 @@ TEST(EnergyBalance, CornellBoxEmittedEqualsAbsorbedPlusEscaped) {
   ClassicalSolver solver(model, options);
   solver.solve();
 
-  // The open front of the box (z = 0), counter-clockwise seen from inside.
-  const std::vector<Vec3> opening{Vec3(0, 0, 0), Vec3(552.8, 0, 0), Vec3(556, 548.8, 0), Vec3(0, 548.8, 0)};
-  const std::array<Vec3, 3> opening_a{opening[0], opening[1], opening[2]}, opening_b{opening[0], opening[2], opening[3]};
-  const RayScene& rays = model.rays();
-
   Rgb emitted(0, 0, 0), absorbed(0, 0, 0), escaped(0, 0, 0);
   for (int s = 0; s < model.num_surfaces(); ++s) {
     const Material& m = model.material(s);
-    const SurfaceHierarchy& h = model.hierarchy(s);
-    for (NodeId leaf : h.leaves()) {
+    for (NodeId leaf : model.hierarchy(s).leaves()) {
       const double a = model.area(s, leaf);
-      const Vec3 x = model.centroid(s, leaf), n = model.normal(s, leaf);
-      const double f_open = point_polygon_form_factor(x, n, opening);
-      double visible = 0.0;
-      if (f_open > 0) {
-        // Unblocked fraction of rays from the leaf to points of the opening.
-        const auto samples = stratified_triangle_samples(4, sample_key(s, leaf));
-        std::vector<ShadowRay> segments;
-        for (const auto& t : {opening_a, opening_b}) {
-          for (const TriangleSample& ts : samples) segments.push_back({rays.lift(x, n), at(t, ts) + Vec3(0, 0, 1e-3)});
-        }
-        std::vector<std::uint8_t> blocked(segments.size());
-        rays.occluded(segments, blocked);
-        for (std::uint8_t b : blocked) visible += b ? 0.0 : 1.0;
-        visible /= static_cast<double>(segments.size());
-      }
+      const double share =
+          escaping_share(model.rays(), model.triangle(s, leaf), model.normal(s, leaf), sample_key(s, leaf));
       for (int c = 0; c < 3; ++c) {
         emitted[c] += M_PI * a * m.emission[c];
         absorbed[c] += M_PI * a * (1.0 - m.reflectance[c]) * solver.gathered(s, leaf)[c];
-        escaped[c] += M_PI * a * solver.radiance(s, leaf)[c] * f_open * visible;
+        escaped[c] += M_PI * a * solver.radiance(s, leaf)[c] * share;
       }
     }
   }
   for (int c = 0; c < 3; ++c) {
     EXPECT_GT(escaped[c], 0.05 * emitted[c]) << "the open front lets light out";
-    EXPECT_NEAR(absorbed[c] + escaped[c], emitted[c], 0.06 * emitted[c])
+    EXPECT_NEAR(absorbed[c] + escaped[c], emitted[c], 0.01 * emitted[c])
         << "channel " << c << ": absorbed " << absorbed[c] << ", escaped " << escaped[c];
   }
 }

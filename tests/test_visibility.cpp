@@ -77,6 +77,36 @@ TEST(RayScene, BlockerBetweenParallelSquares) {
   }
 }
 
+TEST(RayScene, EveryBatchQueryAgreesWithSingleRays) {
+  // Streams and packets of 4, 8 and 16 on a batch whose size is none of
+  // their multiples, mixing clear and blocked segments in every packet.
+  const TriMesh floor = square(0, 0, 1, 0, 1), blocker = square(0.5, 0.25, 0.75, 0.25, 0.75);
+  const RayScene scene({&floor, &blocker});
+  std::vector<ShadowRay> rays;
+  for (std::uint64_t i = 0; i < 1001; ++i) {
+    const Vec3 from = scene.lift(Vec3(unit_double(sample_key(i, 1)), unit_double(sample_key(i, 2)), 0), Vec3(0, 0, 1));
+    const Vec3 to(unit_double(sample_key(i, 3)), unit_double(sample_key(i, 4)), 0.2 + 0.8 * unit_double(sample_key(i, 5)));
+    rays.push_back({from, to});
+  }
+  std::vector<std::uint8_t> single(rays.size());
+  scene.occluded(rays, single, ShadowQuery::kSingle);
+  std::size_t blocked = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(single[i], scene.occluded(rays[i].from, rays[i].to) ? 1 : 0);
+    blocked += single[i];
+  }
+  EXPECT_GT(blocked, 100u);
+  EXPECT_LT(blocked, 900u);
+  for (ShadowQuery q : {ShadowQuery::kStream, ShadowQuery::kPacket4, ShadowQuery::kPacket8, ShadowQuery::kPacket16}) {
+    std::vector<std::uint8_t> out(rays.size(), 7);
+    scene.occluded(rays, out, q);
+    EXPECT_EQ(out, single) << "query " << static_cast<int>(q);
+  }
+  std::vector<std::uint8_t> chosen(rays.size(), 7);
+  scene.occluded(rays, chosen);
+  EXPECT_EQ(chosen, single);
+}
+
 TEST(RayScene, SharedEdgeDoesNotLeak) {
   // Rays through the diagonal shared by the two triangles of a square must hit.
   const TriMesh wall = square(1, 0, 1, 0, 1);

@@ -1,7 +1,9 @@
 // OpenMesh's colour property value-initialises VectorT<uchar,3>, whose
 // default constructor leaves it unset on purpose; GCC flags the copy once
 // request_vertex_colors() is instantiated here. Every colour is set below.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include "io/mesh_io.hpp"
 
@@ -22,6 +24,7 @@
 #include "io/atomic_file.hpp"
 #include "io/input_error.hpp"
 #include "io/openmesh_import.hpp"
+#include "io/ply_off_reader.hpp"
 
 namespace lhr {
 
@@ -197,36 +200,11 @@ RawMesh read_raw_mesh(const std::filesystem::path& path) {
 
   // Every element takes at least one byte of the file.
   PlainImporter importer(size);
-  OpenMesh::IO::Options options = OpenMesh::IO::Options::Custom;
-  bool ok = false;
-  {
-    const QuietOpenMesh quiet;
-    try {
-      ok = OpenMesh::IO::IOManager().read(path.string(), importer, options);
-    } catch (const ImportAborted& abort) {
-      throw InputError(path, abort.problem);
-    }
-  }
-  const std::string format = ext == ".ply" ? "PLY" : "OFF";
-  if (!ok) throw InputError(path, "not a valid " + format + " file (bad header or truncated data)");
+  read_ply_off(path, importer, FaceIndices::kAsStored);
 
   RawMesh mesh;
   mesh.points = std::move(importer.points);
   mesh.faces = std::move(importer.faces);
-  if (mesh.points.size() != importer.declared_vertices) {
-    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_vertices) +
-                               " vertices, file holds " + std::to_string(mesh.points.size()));
-  }
-  if (mesh.faces.size() != importer.declared_faces) {
-    throw InputError(path, "truncated: header declares " + std::to_string(importer.declared_faces) +
-                               " faces, file holds " + std::to_string(mesh.faces.size()));
-  }
-  // A failed text parse yields faces without indices (the readers then read
-  // zeros to the end), so an empty face means a malformed or truncated file.
-  if (importer.empty_faces > 0) {
-    throw InputError(path, std::to_string(importer.empty_faces) +
-                               " face(s) without vertex indices (malformed or truncated face list)");
-  }
   if (mesh.faces.empty()) throw InputError(path, "contains no faces");
 
   std::vector<Rgb> radiance(mesh.points.size(), Rgb(0.0));

@@ -465,6 +465,10 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options) {
     throw std::runtime_error("polygon edges cross each other");
   }
 
+  // Polygons that exactly cover each other (a duplicated face) leave no
+  // boundary edge, so nothing was inserted; CGAL's mesher needs a 2D
+  // triangulation and follows null neighbours otherwise.
+  if (cdt.dimension() < 2) throw std::runtime_error("has no boundary edge (duplicated or overlapping polygons?)");
   const InputTriangles input(q, triangles);
   mark_domain(cdt, input);
 

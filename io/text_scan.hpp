@@ -1,0 +1,56 @@
+#pragma once
+// Text scanning shared by the loaders (io/ internal): files split into
+// tokens with line numbers, numbers parsed strictly and faces checked, so
+// that every problem becomes an InputError naming file and line (DESIGN §3).
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/input_error.hpp"
+#include "mesh/types.hpp"
+
+namespace lhr::text {
+
+// s with line breaks and tabs turned into spaces, trailing spaces removed.
+std::string one_line(std::string s);
+std::string lower(std::string s);
+// Lower-case extension with its dot (".obj").
+std::string extension_of(const std::filesystem::path& path);
+// s quoted for a message, cut to 40 characters.
+std::string show(std::string_view s);
+
+std::string read_file(const std::filesystem::path& path);
+
+// Text formats never contain NUL or most other control bytes; finding one
+// means binary data (a wrong or corrupt file), which the parsers would
+// otherwise skip silently.
+void require_text(const std::filesystem::path& path, std::string_view text);
+
+struct Line {
+  int number = 0;
+  std::vector<std::string_view> tokens;  // never empty
+};
+
+// Splits text into whitespace-separated tokens per line, dropping blank
+// lines; '#' starts a comment when strip_comments is set.
+std::vector<Line> tokenize(std::string_view text, bool strip_comments);
+
+// The whole token as a number, or nothing.
+std::optional<double> parse_double(std::string_view token);
+std::optional<long long> parse_int(std::string_view token);
+
+// The three finite numbers at line.tokens[first ...].
+Vec3 finite_xyz(const std::filesystem::path& path, const Line& line, std::size_t first, const std::string& what);
+
+using ErrorAt = std::function<InputError(const std::string& problem)>;
+
+// Indices must be in range and a face must span >= 3 distinct vertices.
+// Repeats of a neighbouring vertex (common in exports) are removed; any
+// other repeat makes the polygon self-touching, which no mesher accepts.
+std::vector<int> checked_face(const std::vector<long long>& indices, long long n_vertices, const ErrorAt& error);
+
+}  // namespace lhr::text

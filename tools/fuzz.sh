@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses of tests/fuzz with clang 14 (ASan + UBSan)
+# and runs each for a bounded time on its seed corpus; fails on any finding.
+# A finding's input is saved as tests/fuzz/crashes/fuzz_NAME-KIND-HASH: fix
+# the loader and move the file into tests/fuzz/corpus/NAME as a regression
+# input (docs/robustness.md).
+#   LHR_FUZZ_SECONDS    seconds per fuzzer (default 60)
+#   LHR_FUZZ_BUILD_DIR  build directory (default build-fuzz)
+#   LHR_FUZZ_TARGETS    which fuzzers (default "obj ply off scene_json")
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/install-deps.sh
+seconds=${LHR_FUZZ_SECONDS:-60}
+build=${LHR_FUZZ_BUILD_DIR:-build-fuzz}
+targets=${LHR_FUZZ_TARGETS:-obj ply off scene_json}
+
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DLHR_FUZZ=ON \
+  -DLHR_BUILD_TESTS=OFF >/dev/null
+cmake --build "$build" -j "$(nproc)" --target lhr_fuzzers
+
+crashes=tests/fuzz/crashes
+mkdir -p "$crashes"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+failed=()
+for name in $targets; do
+  # New inputs go to a scratch corpus in the build directory; the seed
+  # corpus in the repository is only read.
+  work="$build/fuzz-corpus/$name"
+  log="$build/fuzz-$name.log"
+  mkdir -p "$work"
+  status=0
+  # -timeout catches hangs, -rss_limit_mb and -malloc_limit_mb huge allocations.
+  "$build/tests/fuzz/fuzz_$name" "$work" "tests/fuzz/corpus/$name" \
+    -max_total_time="$seconds" -max_len=4096 -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
+    -dict="tests/fuzz/$name.dict" -artifact_prefix="$crashes/fuzz_$name-" -print_final_stats=1 \
+    >"$log" 2>&1 || status=$?
+  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+  echo "fuzz_$name: ${runs:-?} executions in ${seconds} s, exit $status"
+  if [ "$status" -ne 0 ]; then
+    failed+=("$name")
+    grep -E "ERROR|FUZZ FINDING|SUMMARY|Test unit written" "$log" | head -n 8 >&2 || true
+  fi
+done
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzzing found problems in: ${failed[*]} (inputs in $crashes, logs in $build)" >&2
+  exit 1
+fi

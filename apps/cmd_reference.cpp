@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/options.hpp"
 #include "apps/tone_options.hpp"
 #include "io/image_io.hpp"
@@ -46,7 +47,8 @@ int run_reference(const Args& args) {
       ("jitter", "spread the samples uniformly over each pixel (an antialiased image) instead of tracing "
        "them all through the pixel centre, the point the Gouraud view of lhr solve samples")
       ("threads", po::value<int>()->default_value(0), "worker threads (0: all cores); results do not depend on it")
-      ("quiet,q", "print nothing but errors");
+      ("quiet,q", "print nothing but errors")
+      ("verbose,v", "print progress lines even when stderr is not a terminal");
   add_tone_map_options(visible);
   po::variables_map vm;
   if (!parse_command_line(args,
@@ -59,13 +61,15 @@ int run_reference(const Args& args) {
     return kExitOk;
   }
   const bool quiet = vm.count("quiet") > 0;
-  const bool progress = !quiet && ::isatty(STDERR_FILENO);
+  const bool verbose = vm.count("verbose") > 0 && !quiet;
+  const bool progress = !quiet && (verbose || ::isatty(STDERR_FILENO));
   PathTraceOptions options;
   options.spp = vm["spp"].as<int>();
   options.seed = vm["seed"].as<std::uint64_t>();
   options.target_noise = vm["target-noise"].as<double>();
   options.max_spp = vm["max-spp"].as<int>();
   options.jitter = vm.count("jitter") > 0;
+  options.checkpoint = throw_if_interrupted;
   if (options.spp < 2) throw po::error("--spp must be at least 2 (the noise estimate needs two halves)");
   if (!(options.target_noise >= 0) || !std::isfinite(options.target_noise)) {
     throw po::error("--target-noise must be zero or positive");
@@ -85,6 +89,7 @@ int run_reference(const Args& args) {
                                                : tbb::global_control::active_value(
                                                      tbb::global_control::max_allowed_parallelism));
 
+  install_interrupt_handlers();
   const auto t_start = Clock::now();
   const LoadResult loaded = load_scene(vm["scene"].as<std::string>());
   if (!quiet) {
@@ -102,18 +107,33 @@ int run_reference(const Args& args) {
   if (tracer.emitter_triangle_count() == 0 && !quiet) {
     std::cerr << "lhr reference: warning: the scene has no emitter; the image is black\n";
   }
+  if (verbose) {
+    std::cerr << "lhr reference: " << tracer.triangle_count() << " triangles (" << tracer.emitter_triangle_count()
+              << " emitting), rendering " << camera.width << "x" << camera.height << "\n";
+  }
   auto last_print = Clock::now() - std::chrono::seconds(1);
   const auto report = [&](const PathTraceProgress& p) {
-    if (!progress || seconds_since(last_print) < 0.2) return;
+    if (!progress || seconds_since(last_print) < (verbose ? 1.0 : 0.2)) return;
     last_print = Clock::now();
     std::ostringstream line;
     line << std::fixed << "\rsamples " << p.spp_done << " -> " << p.spp_round_end << " per pixel: "
          << std::setprecision(0) << 100.0 * p.round_fraction << "%";
     if (p.spp_done > 0) line << std::setprecision(2) << " (noise so far " << 100.0 * p.noise << " %)";
-    std::cerr << line.str() << "   " << std::flush;
+    if (verbose) {
+      std::cerr << line.str().substr(1) << "\n";
+    } else {
+      std::cerr << line.str() << "   " << std::flush;
+    }
   };
-  const ReferenceImage reference = tracer.render(camera, options, report);
-  if (progress) std::cerr << "\r" << std::string(79, ' ') << "\r";
+  ReferenceImage reference;
+  try {
+    reference = tracer.render(camera, options, report);
+  } catch (const Interrupted& e) {
+    if (progress && !verbose) std::cerr << "\n";
+    std::cerr << "lhr reference: " << e.what() << "\n";
+    return kExitInterrupted;
+  }
+  if (progress && !verbose) std::cerr << "\r" << std::string(79, ' ') << "\r";
 
   write_image(out, reference.radiance);
   if (png) {

@@ -61,6 +61,10 @@ int run_solve(const Args& args) {
        "stop when no value changes by more than this fraction of the brightest emitted radiance "
        "(default: linear 1e-4, classical 1e-5)")
       ("max-links", po::value<std::size_t>()->default_value(0), "stop refining at this many links (0: no limit)")
+      ("max-memory", po::value<std::string>()->default_value("0"),
+       "stop refining before the radiosity data (hierarchies, values, graphs, links: stats.json bytes.total) "
+       "passes this size, e.g. 512M or 2G (0: no limit); the process adds the scene, its ray-tracing "
+       "structure and the libraries (docs/robustness.md)")
       ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
        "k: k^2 shadow rays per link")
       ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
@@ -132,6 +136,7 @@ int run_solve(const Args& args) {
   classical.max_iterations = linear.max_iterations = max_iterations;
   classical.tolerance = linear.tolerance = tolerance;
   classical.max_links = linear.max_links = max_links;
+  classical.max_bytes = linear.max_bytes = parse_byte_size(vm["max-memory"].as<std::string>(), "--max-memory");
   classical.visibility_samples = linear.visibility_samples = visibility_samples;
   if (!(classical.eps_bf > 0)) throw po::error("--eps-bf must be positive");
   if (!(linear.eps_pixel > 0) || !(linear.eps_link > 0)) throw po::error("--eps-pixel and --eps-link must be positive");
@@ -173,6 +178,9 @@ int run_solve(const Args& args) {
   if (progress && !verbose) std::cerr << "\n";
   if (solution.link_budget_reached && !quiet) {
     std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
+  }
+  if (solution.memory_budget_reached && !quiet) {
+    std::cerr << "lhr solve: warning: --max-memory reached; refinement stopped early\n";
   }
 
   const auto t_output = Clock::now();

@@ -3,7 +3,9 @@
 
 #include <boost/program_options.hpp>
 #include <cmath>
+#include <cstddef>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include "apps/commands.hpp"
@@ -71,6 +73,30 @@ inline MeshingOptions meshing_options_from(const po::variables_map& vm, const Sc
     throw po::error("--min-angle must be in (0, 30] degrees");
   }
   return meshing;
+}
+
+// A size in bytes from "0", "1048576", "512K", "800M" or "2G" (powers of
+// 1024); option names the flag in the error.
+inline std::size_t parse_byte_size(const std::string& text, const std::string& option) {
+  std::size_t used = 0;
+  double value = -1.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  double unit = 1.0;
+  const std::string suffix = text.substr(used);
+  if (suffix == "K" || suffix == "k") unit = 1024.0;
+  if (suffix == "M" || suffix == "m") unit = 1024.0 * 1024.0;
+  if (suffix == "G" || suffix == "g") unit = 1024.0 * 1024.0 * 1024.0;
+  const bool suffix_ok = suffix.empty() || unit > 1.0;
+  const double bytes = value * unit;
+  if (used == 0 || !suffix_ok || !(bytes >= 0.0) ||
+      bytes > static_cast<double>(std::numeric_limits<std::size_t>::max() / 2)) {
+    throw po::error(option + " must be a size such as 512M or 2G, not '" + text + "'");
+  }
+  return static_cast<std::size_t>(bytes);
 }
 
 }  // namespace lhr::app

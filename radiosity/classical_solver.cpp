@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "radiosity/form_factor.hpp"
 #include "radiosity/root_clusters.hpp"
@@ -17,6 +18,9 @@ namespace lhr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Share of max_bytes the link cap plans to fill (refine_links).
+constexpr double kMemoryBudgetUsable = 0.9;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -273,8 +277,25 @@ double ClassicalSolver::estimate_form_factor(const Element& receiver, const Elem
 bool ClassicalSolver::refine_links() {
   const auto start = Clock::now();
   const double threshold = options_.eps_bf * max_emitted_;
-  const bool budget = options_.max_links > 0;
-  std::size_t links_now = budget ? count_links() : 0;
+  std::size_t links_now = count_links();
+  std::size_t link_cap = options_.max_links > 0 ? options_.max_links : std::numeric_limits<std::size_t>::max();
+  bool memory_caps = false;
+  if (options_.max_bytes > 0) {
+    // The links still to make are assumed to bring the data per link so far
+    // (nodes, values), with a tenth of the budget kept back, as in the
+    // linear solver.
+    collect_memory_stats();
+    const std::size_t used = stats_.bytes_total();
+    const double per_link = static_cast<double>(used) / static_cast<double>(std::max<std::size_t>(links_now, 1));
+    const double usable = kMemoryBudgetUsable * static_cast<double>(options_.max_bytes);
+    const std::size_t room = static_cast<double>(used) < usable
+                                 ? static_cast<std::size_t>((usable - static_cast<double>(used)) / per_link)
+                                 : 0;
+    if (links_now + room < link_cap) {
+      link_cap = links_now + room;
+      memory_caps = true;
+    }
+  }
   std::vector<PendingLink> pending;
   bool changed = false;
 
@@ -322,8 +343,8 @@ bool ClassicalSolver::refine_links() {
       std::vector<Link> kept;
       std::vector<PendingLink> local;
       for (const Link& link : list) {
-        if (push_down || (budget && links_now >= options_.max_links)) {
-          if (!push_down) stats_.link_budget_reached = true;
+        if (push_down || links_now >= link_cap) {
+          if (!push_down) (memory_caps ? stats_.memory_budget_reached : stats_.link_budget_reached) = true;
           kept.push_back(link);
           continue;
         }
@@ -438,6 +459,10 @@ void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
     if (!refined && change < options_.tolerance) break;
   }
   stats_.links = count_links();
+  collect_memory_stats();
+}
+
+void ClassicalSolver::collect_memory_stats() {
   stats_.nodes = 0;
   stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = stats_.bytes_links = 0;

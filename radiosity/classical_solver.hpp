@@ -41,6 +41,9 @@ struct ClassicalOptions {
   double tolerance = 1e-5;
   int visibility_samples = 4;  // k: k² shadow rays per element link
   std::size_t max_links = 0;   // 0 = no limit
+  // Memory of the radiosity data (ClassicalStats::bytes_total()), bytes;
+  // 0 = no limit. Refinement stops before the data passes it.
+  std::size_t max_bytes = 0;
 };
 
 struct ClassicalStats {
@@ -48,7 +51,8 @@ struct ClassicalStats {
   std::size_t leaves = 0;
   std::size_t nodes = 0;
   int iterations = 0;
-  bool link_budget_reached = false;
+  bool link_budget_reached = false;    // max_links stopped refinement
+  bool memory_budget_reached = false;  // max_bytes stopped refinement
   std::uint64_t shadow_rays = 0;
   double seconds_refine = 0.0;        // oracle and splits
   double seconds_coefficients = 0.0;  // form factors and visibility of new links
@@ -60,6 +64,7 @@ struct ClassicalStats {
   std::size_t bytes_hierarchy = 0;  // quadtree nodes
   std::size_t bytes_values = 0;     // per-node radiance, gathered value, link list header; root clusters
   std::size_t bytes_links = 0;
+  std::size_t bytes_total() const { return bytes_geometry + bytes_hierarchy + bytes_values + bytes_links; }
 };
 
 class ClassicalSolver {
@@ -135,6 +140,7 @@ class ClassicalSolver {
   double element_area(const Element& e) const;
   std::vector<Link>& links_of(const Element& e);
   std::size_t count_links() const;
+  void collect_memory_stats();
 
   SceneModel& model_;
   ClassicalOptions options_;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "radiosity/receiver_oracle.hpp"
 #include "radiosity/sampling.hpp"
@@ -15,6 +16,9 @@ namespace lhr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Share of max_bytes the link cap plans to fill (update_link_cap).
+constexpr double kMemoryBudgetUsable = 0.9;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -486,7 +490,6 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
   // Paper §4.2: a link whose largest basis contribution, reflected and seen by
   // the camera, is significant is replaced by links from the shooter's
   // children, recursively (a pass per level).
-  const bool budget = options_.max_links > 0;
   bool changed = false;
   const std::vector<std::vector<double>>& importance = graph_importance_;
   std::vector<PendingLink> candidates = std::move(evaluated);
@@ -510,10 +513,7 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
         largest = std::max(largest, luminance(transfer));
       }
       if (!(largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link)) continue;
-      if (budget && links_now_ + 3 > options_.max_links) {
-        stats_.link_budget_reached = true;
-        continue;
-      }
+      if (over_budget(3)) continue;
       const std::vector<NodeId> kids = children(s, link.shooter);
       std::vector<GraphLink>& links = g.links(p.vertex);
       links[p.slot] = {kids[0], {}};
@@ -533,7 +533,6 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
 }
 
 bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone) {
-  const bool budget = options_.max_links > 0;
   bool changed = false;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     InteractionGraph& g = graphs_[gi];
@@ -602,10 +601,13 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
     }
     std::vector<InteractionGraph::NewVertex> created;
     for (NodeId n : to_split) {
-      if (budget && links_now_ >= options_.max_links) {
-        stats_.link_budget_reached = true;
-        break;
+      // A split seeds its new vertices (at most 3 unless the restriction
+      // splits neighbours too) with the links of a corner.
+      std::size_t seeded = 0;
+      for (VertexId v : h.corners(n)) {
+        if (const int i = g.index_of(v); i >= 0) seeded = std::max(seeded, g.links(i).size());
       }
+      if (over_budget(3 * seeded)) break;
       const std::size_t before = created.size();
       if (g.split(n, h, created)) {
         ++stats_.receiver_splits;
@@ -619,8 +621,35 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
   return changed;
 }
 
+void LinearSolver::update_link_cap() {
+  link_cap_ = options_.max_links > 0 ? options_.max_links : std::numeric_limits<std::size_t>::max();
+  memory_caps_ = false;
+  if (options_.max_bytes == 0) return;
+  collect_stats();
+  const std::size_t used = stats_.bytes_total();
+  // Each link so far came with its share of the data (nodes, graph vertices,
+  // values); the links still to make are assumed to bring the same. A tenth
+  // of the budget is kept back for what that misses: the step that crosses
+  // the cap and arrays growing by doubling.
+  const double per_link = static_cast<double>(used) / static_cast<double>(std::max<std::size_t>(links_now_, 1));
+  const double usable = kMemoryBudgetUsable * static_cast<double>(options_.max_bytes);
+  const std::size_t room =
+      static_cast<double>(used) < usable ? static_cast<std::size_t>((usable - static_cast<double>(used)) / per_link) : 0;
+  if (links_now_ + room < link_cap_) {
+    link_cap_ = links_now_ + room;
+    memory_caps_ = true;
+  }
+}
+
+bool LinearSolver::over_budget(std::size_t new_links) {
+  if (links_now_ + new_links <= link_cap_) return false;
+  (memory_caps_ ? stats_.memory_budget_reached : stats_.link_budget_reached) = true;
+  return true;
+}
+
 bool LinearSolver::refine() {
   const auto start = Clock::now();
+  update_link_cap();
   const double coefficient_seconds = stats_.seconds_coefficients;
   std::vector<PendingLink> all;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
@@ -643,9 +672,14 @@ void LinearSolver::solve(const std::function<void(int, double)>& progress) {
   const auto checkpoint = [this] {
     if (options_.checkpoint) options_.checkpoint();
   };
+  update_link_cap();
   for (int it = 1; it <= options_.max_iterations; ++it) {
     checkpoint();
+    const std::size_t before = links_now_;
     const bool linked = link_new_shooters();
+    // A surface that starts shooting gets its first links even past the cap:
+    // without them its light would not reach anything.
+    if (links_now_ > link_cap_) stats_.links_linked_past_budget += links_now_ - std::max(before, link_cap_);
     checkpoint();
     gather();
     const double change = push() / scale;

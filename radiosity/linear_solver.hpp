@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -57,6 +58,10 @@ struct LinearOptions {
   double link_power = 1e-4;
   int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
   std::size_t max_links = 0;   // 0 = no limit
+  // Memory of the radiosity data (LinearStats::bytes_total(): hierarchies,
+  // vertex values, graphs, links), bytes; 0 = no limit. Refinement stops
+  // before the data passes it; linking new shooters does not.
+  std::size_t max_bytes = 0;
   // What the camera sees, for importance and the tone map's adaptation; empty:
   // every surface seen face-on, pixels in proportion to area.
   std::vector<ViewSample> view;
@@ -77,7 +82,9 @@ struct LinearStats {
   std::size_t leaves = 0;
   std::vector<std::size_t> leaves_per_level;
   int iterations = 0;
-  bool link_budget_reached = false;
+  bool link_budget_reached = false;    // max_links stopped refinement
+  bool memory_budget_reached = false;  // max_bytes stopped refinement
+  std::size_t links_linked_past_budget = 0;  // first links of shooters that began after the cap
   std::uint64_t shadow_rays = 0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
@@ -89,6 +96,9 @@ struct LinearStats {
   std::size_t bytes_values = 0;     // per-vertex radiance and bookkeeping
   std::size_t bytes_graphs = 0;     // graph node states, vertex tables
   std::size_t bytes_links = 0;
+  std::size_t bytes_total() const {
+    return bytes_geometry + bytes_hierarchy + bytes_values + bytes_graphs + bytes_links;
+  }
   double seconds_linking = 0.0;       // new graphs
   double seconds_coefficients = 0.0;  // form factors and visibility
   double seconds_gather = 0.0;
@@ -158,6 +168,8 @@ class LinearSolver {
   std::vector<NodeId> children(int s, NodeId element);
   std::size_t count_links() const;
   void collect_stats();
+  void update_link_cap();
+  bool over_budget(std::size_t new_links);
 
   SceneModel& model_;
   LinearOptions options_;
@@ -172,6 +184,10 @@ class LinearSolver {
   double adaptation_ = 1.0;  // log-average luminance the camera sees
   double brightest_ = 1.0;
   std::size_t links_now_ = 0;
+  // Refinement makes no link beyond this: max_links, or fewer when the
+  // memory budget is nearer (memory_caps_).
+  std::size_t link_cap_ = std::numeric_limits<std::size_t>::max();
+  bool memory_caps_ = false;
   LinearStats stats_;
 };
 

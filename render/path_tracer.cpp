@@ -427,6 +427,7 @@ ReferenceImage PathTracer::render(const Camera& camera, const PathTraceOptions& 
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
       for (int y = range.begin(); y != range.end(); ++y) {
         for (int x = 0; x < width; ++x) {
+          if (options.checkpoint) options.checkpoint();
           const std::size_t pixel = static_cast<std::size_t>(y) * width + x;
           PixelSums& p = sums[pixel];
           const Vec3 centre = rays.direction(x, y);

@@ -31,6 +31,9 @@ struct PathTraceOptions {
   // edges are not penalised for aliasing; true: samples uniform over each
   // pixel (box filter), an antialiased image.
   bool jitter = false;
+  // Called before each pixel of each round, from worker threads; may throw
+  // to abandon the render (an interrupted run), which render() rethrows.
+  std::function<void()> checkpoint;
 };
 
 struct PathTraceProgress {

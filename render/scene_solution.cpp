@@ -27,6 +27,7 @@ struct MethodRun {
   std::size_t elements = 0, links = 0;
   int iterations = 0;
   bool budget_reached = false;
+  bool memory_budget_reached = false;
 };
 
 MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
@@ -52,6 +53,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
   const LinearStats& st = solver.stats();
   MethodRun run;
   run.budget_reached = st.link_budget_reached;
+  run.memory_budget_reached = st.memory_budget_reached;
   run.elements = st.leaves;
   run.links = st.links;
   run.iterations = st.iterations;
@@ -63,6 +65,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
                     {"max_iterations", options.max_iterations},
                     {"tolerance", options.tolerance},
                     {"max_links", options.max_links},
+                    {"max_bytes", options.max_bytes},
                     {"visibility_samples", options.visibility_samples}};
   const std::size_t other_bytes = st.bytes_geometry + st.bytes_hierarchy + st.bytes_values;
   run.stats = {{"nodes", st.nodes},
@@ -71,6 +74,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
                {"elements_per_level", st.leaves_per_level},
                {"receiver_splits", st.receiver_splits},
                {"shooter_refinements", st.shooter_refinements},
+               {"links_linked_past_budget", st.links_linked_past_budget},
                {"final_change", st.final_change},
                {"shadow_rays", st.shadow_rays},
                {"oracle_adaptation", st.world_adaptation},
@@ -85,7 +89,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
                                         ? static_cast<double>(st.bytes_graphs) /
                                               static_cast<double>(other_bytes + st.bytes_links)
                                         : 0.0},
-                 {"total", st.bytes_graphs + st.bytes_links + other_bytes}}}};
+                 {"total", st.bytes_total()}}}};
   run.seconds = {{"linking", st.seconds_linking}, {"coefficients", st.seconds_coefficients},
                  {"gather", st.seconds_gather},   {"push_pull", st.seconds_push_pull},
                  {"oracles", st.seconds_oracles}, {"importance", st.seconds_importance}};
@@ -104,6 +108,7 @@ MethodRun run_classical(SceneModel& model, const SolveSettings& settings, std::v
   const ClassicalStats& st = solver.stats();
   MethodRun run;
   run.budget_reached = st.link_budget_reached;
+  run.memory_budget_reached = st.memory_budget_reached;
   run.elements = st.leaves;
   run.links = st.links;
   run.iterations = st.iterations;
@@ -112,8 +117,17 @@ MethodRun run_classical(SceneModel& model, const SolveSettings& settings, std::v
                     {"max_iterations", options.max_iterations},
                     {"tolerance", options.tolerance},
                     {"max_links", options.max_links},
+                    {"max_bytes", options.max_bytes},
                     {"visibility_samples", options.visibility_samples}};
-  run.stats = {{"nodes", st.nodes}, {"final_change", st.final_change}, {"shadow_rays", st.shadow_rays}};
+  run.stats = {{"nodes", st.nodes},
+               {"final_change", st.final_change},
+               {"shadow_rays", st.shadow_rays},
+               {"bytes",
+                {{"geometry", st.bytes_geometry},
+                 {"hierarchy", st.bytes_hierarchy},
+                 {"element_values", st.bytes_values},
+                 {"links", st.bytes_links},
+                 {"total", st.bytes_total()}}}};
   run.seconds = {{"refine", st.seconds_refine},
                  {"coefficients", st.seconds_coefficients},
                  {"gather", st.seconds_gather},
@@ -141,6 +155,7 @@ SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
   SceneSolution out;
   out.view = make_solution_view(surfaces, settings.camera, settings.tone);
   out.link_budget_reached = run.budget_reached;
+  out.memory_budget_reached = run.memory_budget_reached;
 
   nlohmann::json& doc = out.stats;
   doc["scene"] = scene.source;
@@ -155,6 +170,7 @@ SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
   doc["links"] = run.links;
   doc["iterations"] = run.iterations;
   doc["link_budget_reached"] = run.budget_reached;
+  doc["memory_budget_reached"] = run.memory_budget_reached;
   doc.update(run.stats);
   doc["exported_vertices"] = out.view.export_mesh.points.size();
   doc["exported_triangles"] = out.view.export_mesh.triangles.size();

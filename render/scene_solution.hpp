@@ -33,7 +33,8 @@ struct SceneSolution {
   // stats.json: method, parameters, sizes, bytes, seconds per phase. The
   // "seconds" object and peak memory vary from run to run; nothing else does.
   nlohmann::json stats;
-  bool link_budget_reached = false;
+  bool link_budget_reached = false;    // refinement stopped at max_links
+  bool memory_budget_reached = false;  // refinement stopped at max_bytes
 };
 
 // progress(iteration, largest change) after each solver iteration.

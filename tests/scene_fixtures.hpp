@@ -6,6 +6,8 @@
 
 #include "mesh/scene.hpp"
 #include "mesh/surfaces.hpp"
+#include "radiosity/linear_solver.hpp"
+#include "render/gouraud.hpp"
 
 namespace lhr::test {
 
@@ -68,6 +70,20 @@ inline Scene emitter_over_receiver(double size, double height, double receiver_r
   const double lo = 0.5 - size / 2, hi = 0.5 + size / 2;
   add_quad(soup, Vec3(lo, lo, height), Vec3(lo, hi, height), Vec3(hi, hi, height), Vec3(hi, lo, height), 1, 1);
   return scene_from_soup(soup, "emitter over receiver");
+}
+
+// What the scene camera (or the framing camera) sees, for the linear
+// solver's importance: at size x size pixels when size > 0, else its own.
+inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
+  Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
+  if (size > 0) camera.width = camera.height = size;
+  std::vector<const TriMesh*> meshes;
+  for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
+  std::vector<ViewSample> view;
+  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
+    if (h.surface >= 0) view.push_back({h.surface, h.face, h.u, h.v});
+  }
+  return view;
 }
 
 }  // namespace lhr::test

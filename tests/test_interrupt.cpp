@@ -1,5 +1,6 @@
-// An interrupted `lhr solve` (SIGINT or SIGTERM mid-solve) exits cleanly with
-// code 130, writes no file, and leaves an existing output untouched.
+// An interrupted `lhr solve` or `lhr reference` (SIGINT or SIGTERM mid-run)
+// exits cleanly with code 130, writes no file, and leaves an existing output
+// untouched.
 
 #include <gtest/gtest.h>
 #include <fcntl.h>
@@ -23,12 +24,12 @@ struct Interrupted {
   std::string err;
 };
 
-// Starts a Cornell-box solve that takes many seconds and signals it `delay`
-// after its first iteration.
-Interrupted interrupt_solve(const std::filesystem::path& dir, int signal, std::chrono::milliseconds delay) {
-  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
-  const std::string out = (dir / "out").string(), err_file = (dir / "stderr.txt").string();
-  std::vector<std::string> args{LHR_EXECUTABLE, "solve", scene, "--out", out, "--eps-link", "5", "--verbose"};
+// Starts `lhr` with args (a run of many seconds) and signals it `delay`
+// after `marker` appears on its stderr: the run is then mid-work.
+Interrupted interrupt_run(const std::filesystem::path& dir, std::vector<std::string> args, const std::string& marker,
+                          int signal, std::chrono::milliseconds delay) {
+  const std::string err_file = (dir / "stderr.txt").string();
+  args.insert(args.begin(), LHR_EXECUTABLE);
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -40,9 +41,8 @@ Interrupted interrupt_solve(const std::filesystem::path& dir, int signal, std::c
   posix_spawn_file_actions_destroy(&actions);
   Interrupted result;
   if (spawned != 0) return result;
-  // Mid-solve: once the first iteration has reported (or after a minute).
   for (int waited = 0; waited < 600; ++waited) {
-    if (test::read_text(err_file).find("iteration 1:") != std::string::npos) break;
+    if (test::read_text(err_file).find(marker) != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   std::this_thread::sleep_for(delay);
@@ -61,7 +61,10 @@ TEST(Interrupt, SignalMidSolveExitsCleanlyAndKeepsOldOutputs) {
     // An earlier run's result must survive.
     std::filesystem::create_directories(dir / "out");
     test::write_text(dir / "out" / "mesh.ply", "earlier result");
-    const Interrupted r = interrupt_solve(dir, signal, std::chrono::milliseconds(200));
+    const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
+    const Interrupted r = interrupt_run(
+        dir, {"solve", scene, "--out", (dir / "out").string(), "--eps-link", "5", "--verbose"}, "iteration 1:",
+        signal, std::chrono::milliseconds(200));
     EXPECT_EQ(r.exit_code, 130) << r.err;
     EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
     EXPECT_EQ(test::read_text(dir / "out" / "mesh.ply"), "earlier result");
@@ -70,6 +73,29 @@ TEST(Interrupt, SignalMidSolveExitsCleanlyAndKeepsOldOutputs) {
       files.push_back(entry.path().filename().string());
     }
     EXPECT_EQ(files, std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
+  }
+}
+
+TEST(Interrupt, SignalMidReferenceExitsCleanlyAndKeepsTheOldImage) {
+  for (const int signal : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(signal);
+    const auto dir = test::fresh_dir("interrupt_reference_" + std::to_string(signal));
+    std::filesystem::create_directories(dir / "out");
+    test::write_text(dir / "out" / "ref.exr", "earlier result");
+    const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
+    // A million samples per pixel: hours, so the signal lands mid-render.
+    const Interrupted r = interrupt_run(dir,
+                                        {"reference", scene, "--out", (dir / "out" / "ref.exr").string(), "--png",
+                                         (dir / "out" / "ref.png").string(), "--spp", "1000000", "--verbose"},
+                                        "rendering", signal, std::chrono::milliseconds(200));
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_text(dir / "out" / "ref.exr"), "earlier result");
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
+      files.push_back(entry.path().filename().string());
+    }
+    EXPECT_EQ(files, std::vector<std::string>{"ref.exr"}) << "no new, partial or temporary file";
   }
 }
 

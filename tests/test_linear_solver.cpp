@@ -74,19 +74,6 @@ std::vector<std::string> graph_violations(const SceneModel& model, const Interac
   return out;
 }
 
-// What the scene camera sees, at a reduced resolution (size > 0) or its own.
-std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
-  Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
-  if (size > 0) camera.width = camera.height = size;
-  std::vector<const TriMesh*> meshes;
-  for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
-  std::vector<ViewSample> view;
-  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
-    if (h.surface >= 0) view.push_back({h.surface, h.face, h.u, h.v});
-  }
-  return view;
-}
-
 void expect_invariants(const SceneModel& model, const LinearSolver& solver, int iteration) {
   for (int s = 0; s < model.num_surfaces(); ++s) {
     const SurfaceHierarchy& h = model.hierarchy(s);
@@ -222,7 +209,7 @@ TEST(LinearSolver, InvariantsHoldAfterEveryIteration) {
   options.eps_link = 10.0;
   options.eps_pixel = 0.1;
   options.visibility_samples = 2;
-  options.view = camera_view(model, 128);
+  options.view = test::camera_view(model, 128);
   LinearSolver solver(model, options);
   int iterations = 0;
   solver.solve([&](int iteration, double) {
@@ -245,7 +232,7 @@ TEST(LinearSolver, SameResultWhateverTheThreadCount) {
     options.eps_link = 10.0;
     options.eps_pixel = 0.1;
     options.visibility_samples = 2;
-    options.view = camera_view(model, 128);
+    options.view = test::camera_view(model, 128);
     LinearSolver solver(model, options);
     solver.solve();
     std::vector<Rgb> all;
@@ -301,7 +288,7 @@ TEST(LinearSolver, AgreesWithClassicalOnAbsorbedPowerInTheCornellBox) {
   meshing.max_edge = 60.0;
   SceneModel linear_model(loaded.scene, meshing);
   LinearOptions options;
-  options.view = camera_view(linear_model, 128);
+  options.view = test::camera_view(linear_model, 128);
   LinearSolver linear(linear_model, options);
   linear.solve();
   const Rgb from_linear = absorbed_power(linear_model, [&](int s) {
@@ -372,7 +359,7 @@ TEST(LinearSolver, ImportanceSendsTheLinksToTheRoomTheCameraSees) {
     options.visibility_samples = 2;
     options.eps_link = 20.0;
     options.eps_pixel = 0.5;
-    if (with_camera) options.view = camera_view(model, 0);
+    if (with_camera) options.view = test::camera_view(model, 0);
     LinearSolver solver(model, options);
     solver.solve();
     return refinement_in_camera_room(model, solver);

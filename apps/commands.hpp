@@ -20,5 +20,6 @@ int run_scene(const Args& args);
 int run_solve(const Args& args);
 int run_reference(const Args& args);
 int run_compare(const Args& args);
+int run_bench(const Args& args);
 
 }  // namespace lhr::app

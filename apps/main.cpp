@@ -22,6 +22,7 @@ constexpr Command kCommands[] = {
     {"scene", lhr::app::run_scene, "write one of the paper's generated test scenes"},
     {"reference", lhr::app::run_reference, "path-trace a reference image of a scene and report its noise"},
     {"compare", lhr::app::run_compare, "measure an image against a reference (the paper's 10 %/15 % norms)"},
+    {"bench", lhr::app::run_bench, "chart image accuracy against links, time and memory for every method"},
 };
 
 void print_usage(std::ostream& out) {

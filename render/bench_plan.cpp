@@ -1,0 +1,326 @@
+#include "render/bench_plan.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <iomanip>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace lhr {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+}
+
+// Comma-separated items, trimmed; an empty list or item is an error.
+std::vector<std::string> split_list(const std::string& text, const std::string& option) {
+  std::vector<std::string> items;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = trim(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (item.empty()) throw std::invalid_argument(option + ": empty item in \"" + text + "\"");
+    items.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return items;
+}
+
+std::optional<double> parse_positive(const std::string& text) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end || !std::isfinite(value) || !(value > 0.0)) return std::nullopt;
+  return value;
+}
+
+void reject_duplicates(const std::vector<BenchRun>& runs, const std::string& option) {
+  std::set<std::string> seen;
+  for (const BenchRun& run : runs) {
+    if (!seen.insert(run.id()).second) throw std::invalid_argument(option + " lists " + run.label() + " twice");
+  }
+}
+
+// Fixed decimals for a CSV cell.
+std::string fixed(double value, int decimals) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(decimals) << value;
+  return s.str();
+}
+
+// Cells read from a record: empty when the run's method has no such value.
+std::string count_cell(const nlohmann::json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || !object[key].is_number()) return "";
+  return std::to_string(object[key].get<long long>());
+}
+
+std::string seconds_cell(const nlohmann::json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || !object[key].is_number()) return "";
+  return fixed(object[key].get<double>(), 3);
+}
+
+// Phases of stats.json's "seconds" (either method; a method lacks some).
+const char* const kPhases[] = {"meshing", "solve",   "linking",    "refine", "coefficients", "gather",
+                               "push_pull", "oracles", "importance", "view", "output"};
+
+}  // namespace
+
+const char* bench_method_name(BenchMethod method) {
+  switch (method) {
+    case BenchMethod::kLinear: return "linear";
+    case BenchMethod::kClassical: return "classical";
+    case BenchMethod::kPath: return "path";
+  }
+  return "?";
+}
+
+std::string format_parameter(double value) {
+  std::string s = fixed(value, 10);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (!s.empty() && s.back() == '.') s.pop_back();
+  return s;
+}
+
+std::string BenchRun::id() const {
+  switch (method) {
+    case BenchMethod::kLinear: return "linear-" + format_parameter(eps_link) + "-" + format_parameter(eps_pixel);
+    case BenchMethod::kClassical: return "classical-" + format_parameter(eps_bf);
+    case BenchMethod::kPath: return "path-" + std::to_string(spp);
+  }
+  return "?";
+}
+
+std::string BenchRun::label() const {
+  switch (method) {
+    case BenchMethod::kLinear:
+      return "eps_link=" + format_parameter(eps_link) + " eps_pixel=" + format_parameter(eps_pixel);
+    case BenchMethod::kClassical: return "eps_bf=" + format_parameter(eps_bf);
+    case BenchMethod::kPath: return "spp=" + std::to_string(spp);
+  }
+  return "?";
+}
+
+std::vector<BenchRun> parse_linear_list(const std::string& text) {
+  std::vector<BenchRun> runs;
+  for (const std::string& item : split_list(text, "--linear")) {
+    const std::size_t slash = item.find('/');
+    const auto link = slash == std::string::npos ? std::nullopt : parse_positive(trim(item.substr(0, slash)));
+    const auto pixel = slash == std::string::npos ? std::nullopt : parse_positive(trim(item.substr(slash + 1)));
+    if (!link || !pixel) {
+      throw std::invalid_argument("--linear: \"" + item +
+                                  "\" is not eps_link/eps_pixel with two positive numbers (e.g. 10/0.3)");
+    }
+    BenchRun run;
+    run.method = BenchMethod::kLinear;
+    run.eps_link = *link;
+    run.eps_pixel = *pixel;
+    runs.push_back(run);
+  }
+  reject_duplicates(runs, "--linear");
+  return runs;
+}
+
+std::vector<BenchRun> parse_classical_list(const std::string& text) {
+  std::vector<BenchRun> runs;
+  for (const std::string& item : split_list(text, "--classical")) {
+    const auto eps = parse_positive(item);
+    if (!eps) throw std::invalid_argument("--classical: \"" + item + "\" is not a positive eps_bf (e.g. 0.003)");
+    BenchRun run;
+    run.method = BenchMethod::kClassical;
+    run.eps_bf = *eps;
+    runs.push_back(run);
+  }
+  reject_duplicates(runs, "--classical");
+  return runs;
+}
+
+std::vector<BenchRun> parse_spp_list(const std::string& text) {
+  std::vector<BenchRun> runs;
+  for (const std::string& item : split_list(text, "--spp")) {
+    int spp = 0;
+    const char* end = item.data() + item.size();
+    const auto [ptr, ec] = std::from_chars(item.data(), end, spp);
+    // Two samples at least: lhr reference estimates its noise from two halves.
+    if (ec != std::errc() || ptr != end || spp < 2) {
+      throw std::invalid_argument("--spp: \"" + item + "\" is not a whole number of samples per pixel of at least 2");
+    }
+    BenchRun run;
+    run.method = BenchMethod::kPath;
+    run.spp = spp;
+    runs.push_back(run);
+  }
+  reject_duplicates(runs, "--spp");
+  return runs;
+}
+
+std::vector<BenchMethod> parse_method_list(const std::string& text) {
+  std::vector<BenchMethod> methods;
+  for (const std::string& item : split_list(text, "--methods")) {
+    BenchMethod method;
+    if (item == "linear") method = BenchMethod::kLinear;
+    else if (item == "classical") method = BenchMethod::kClassical;
+    else if (item == "path") method = BenchMethod::kPath;
+    else throw std::invalid_argument("--methods: \"" + item + "\" is not linear, classical or path");
+    for (const BenchMethod m : methods) {
+      if (m == method) throw std::invalid_argument("--methods lists " + item + " twice");
+    }
+    methods.push_back(method);
+  }
+  return methods;
+}
+
+std::vector<BenchRun> plan_bench(const std::vector<BenchMethod>& methods, const std::vector<BenchRun>& linear,
+                                 const std::vector<BenchRun>& classical, const std::vector<BenchRun>& path) {
+  const auto wanted = [&](BenchMethod m) {
+    for (const BenchMethod x : methods) {
+      if (x == m) return true;
+    }
+    return false;
+  };
+  std::vector<BenchRun> plan;
+  if (wanted(BenchMethod::kLinear)) plan.insert(plan.end(), linear.begin(), linear.end());
+  if (wanted(BenchMethod::kClassical)) plan.insert(plan.end(), classical.begin(), classical.end());
+  if (wanted(BenchMethod::kPath)) plan.insert(plan.end(), path.begin(), path.end());
+  return plan;
+}
+
+std::vector<std::string> bench_run_arguments(const BenchRun& run, const std::string& scene,
+                                             const std::vector<std::string>& solve_arguments,
+                                             const std::vector<std::string>& reference_arguments) {
+  std::vector<std::string> args;
+  switch (run.method) {
+    case BenchMethod::kLinear:
+      args = {"solve", scene, "--method", "linear", "--eps-link", format_parameter(run.eps_link),
+              "--eps-pixel", format_parameter(run.eps_pixel)};
+      break;
+    case BenchMethod::kClassical:
+      args = {"solve", scene, "--method", "classical", "--eps-bf", format_parameter(run.eps_bf)};
+      break;
+    case BenchMethod::kPath:
+      args = {"reference", scene, "--spp", std::to_string(run.spp), "--seed", std::to_string(kPathRunSeed)};
+      break;
+  }
+  const auto& shared = run.method == BenchMethod::kPath ? reference_arguments : solve_arguments;
+  args.insert(args.end(), shared.begin(), shared.end());
+  return args;
+}
+
+nlohmann::json bench_record(const std::vector<std::string>& arguments, double seconds_total,
+                            std::size_t peak_rss_bytes, const nlohmann::json& stats) {
+  return {{"arguments", arguments},
+          {"seconds_total", seconds_total},
+          {"peak_rss_bytes", peak_rss_bytes},
+          {"stats", stats}};
+}
+
+const std::vector<std::string>& bench_csv_columns() {
+  static const std::vector<std::string> columns = [] {
+    std::vector<std::string> c{"method", "parameters", "eps_link", "eps_pixel", "eps_bf", "spp",
+                               "links",  "nodes",      "elements", "seconds_total"};
+    for (const char* phase : kPhases) c.push_back(std::string("seconds_") + phase);
+    for (const char* rest : {"peak_rss_bytes", "graph_bytes", "graph_overhead", "within_10", "within_15", "rmse",
+                             "psnr_db", "relative_error"}) {
+      c.push_back(rest);
+    }
+    return c;
+  }();
+  return columns;
+}
+
+int bench_csv_column(const std::string& name) {
+  const auto& columns = bench_csv_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (columns[i] == name) return static_cast<int>(i) + 1;
+  }
+  throw std::logic_error("bench.csv has no column " + name);
+}
+
+std::vector<Chart> bench_charts(const std::string& title, const std::vector<BenchRow>& rows) {
+  const auto series_of = [&](bool with_path) {
+    std::vector<ChartSeries> series;
+    const std::pair<BenchMethod, const char*> methods[] = {
+        {BenchMethod::kLinear, "linear HR"},
+        {BenchMethod::kClassical, "classical HR"},
+        {BenchMethod::kPath, "path tracer"}};
+    for (const auto& [method, name] : methods) {
+      if (method == BenchMethod::kPath && !with_path) continue;
+      for (const BenchRow& row : rows) {
+        if (row.run.method == method) {
+          series.push_back({bench_method_name(method), name});
+          break;
+        }
+      }
+    }
+    return series;
+  };
+  const std::vector<ChartPanel> panels{
+      {bench_csv_column("within_10"), "within 10 %", "% of pixels within 10 % of the display range"},
+      {bench_csv_column("within_15"), "within 15 %", "% of pixels within 15 % of the display range"}};
+  std::vector<Chart> charts;
+  const auto add = [&](const std::string& file, const std::string& against, const std::string& column, double divisor,
+                       const std::string& x_label, const std::string& x_format, bool with_path) {
+    Chart chart;
+    chart.file = file;
+    chart.title = title + ": image accuracy against " + against;
+    chart.x_column = bench_csv_column(column);
+    chart.x_divisor = divisor;
+    chart.x_label = x_label;
+    chart.x_format = x_format;
+    chart.series = series_of(with_path);
+    chart.panels = panels;
+    if (!chart.series.empty()) charts.push_back(chart);
+  };
+  add("accuracy_vs_links.png", "links", "links", 1.0, "links (log scale)", "10^{%T}", false);
+  add("accuracy_vs_seconds.png", "time", "seconds_total", 1.0,
+      "seconds, wall clock of the whole run (log scale)", "%g", true);
+  add("accuracy_vs_memory.png", "memory", "peak_rss_bytes", 1024.0 * 1024.0,
+      "peak resident memory of the run, MiB (log scale)", "%g", true);
+  return charts;
+}
+
+std::string bench_csv(const std::vector<BenchRow>& rows) {
+  std::ostringstream out;
+  const auto& columns = bench_csv_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+  out << "\n";
+  for (const BenchRow& row : rows) {
+    const BenchRun& run = row.run;
+    const nlohmann::json& record = row.record;
+    const nlohmann::json stats = record.contains("stats") ? record["stats"] : nlohmann::json();
+    const nlohmann::json seconds = stats.is_object() && stats.contains("seconds") ? stats["seconds"] : nlohmann::json();
+    const nlohmann::json bytes = stats.is_object() && stats.contains("bytes") ? stats["bytes"] : nlohmann::json();
+    const bool linear = run.method == BenchMethod::kLinear;
+    std::vector<std::string> cells{bench_method_name(run.method),
+                                   run.label(),
+                                   linear ? format_parameter(run.eps_link) : "",
+                                   linear ? format_parameter(run.eps_pixel) : "",
+                                   run.method == BenchMethod::kClassical ? format_parameter(run.eps_bf) : "",
+                                   run.method == BenchMethod::kPath ? std::to_string(run.spp) : "",
+                                   count_cell(stats, "links"),
+                                   count_cell(stats, "nodes"),
+                                   count_cell(stats, "elements"),
+                                   seconds_cell(record, "seconds_total")};
+    for (const char* phase : kPhases) cells.push_back(seconds_cell(seconds, phase));
+    cells.push_back(count_cell(record, "peak_rss_bytes"));
+    cells.push_back(count_cell(bytes, "graphs"));
+    const bool overhead = bytes.is_object() && bytes.contains("graph_overhead");
+    cells.push_back(overhead ? fixed(bytes["graph_overhead"].get<double>(), 4) : "");
+    const ImageMetrics& m = row.metrics;
+    cells.push_back(fixed(m.within_10, 3));
+    cells.push_back(fixed(m.within_15, 3));
+    cells.push_back(fixed(m.rmse, 6));
+    cells.push_back(std::isfinite(m.psnr_db) ? fixed(m.psnr_db, 3) : "");
+    cells.push_back(std::isfinite(m.relative_error) ? fixed(m.relative_error, 6) : "");
+    for (std::size_t i = 0; i < cells.size(); ++i) out << (i ? "," : "") << cells[i];
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace lhr

@@ -39,12 +39,11 @@ std::string gnuplot_script(const std::string& csv_file, int key_column, const st
     << "set datafile separator ','\n"
     << "if (!exists('out_prefix')) out_prefix = ''\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-    << "  set terminal pngcairo enhanced size 1200,480 font 'sans,10'\n"
+    << "  set terminal pngcairo enhanced size 1500,480 font 'sans,10'\n"
     << "} else {\n"
-    << "  set terminal png enhanced size 1200,480\n"
+    << "  set terminal png enhanced size 1500,480\n"
     << "}\n"
-    << "set grid\n"
-    << "set key bottom right\n";
+    << "set grid\n";
   for (std::size_t i = 0; i < std::size(kLineStyles); ++i) {
     s << "set style line " << i + 1 << " " << kLineStyles[i] << "\n";
   }
@@ -54,10 +53,11 @@ std::string gnuplot_script(const std::string& csv_file, int key_column, const st
       << "set multiplot layout 1," << chart.panels.size() << " title " << quoted(chart.title) << " noenhanced\n"
       << (chart.log_x ? "set logscale x\n" : "unset logscale x\n") << "set format x " << quoted(chart.x_format)
       << "\n"
-      << "set xlabel " << quoted(chart.x_label) << " noenhanced\n"
-      << "set yrange [*:" << chart.y_max << "]\n";
+      << "set xlabel " << quoted(chart.x_label) << " noenhanced\n";
     for (const ChartPanel& panel : chart.panels) {
-      s << "set title " << quoted(panel.title) << " noenhanced\n"
+      s << "set yrange " << panel.y_range << "\n"
+        << "set key " << panel.key << "\n"
+        << "set title " << quoted(panel.title) << " noenhanced\n"
         << "set ylabel " << quoted(panel.y_label) << " noenhanced\n"
         << "plot";
       for (std::size_t i = 0; i < chart.series.size(); ++i) {

@@ -20,6 +20,8 @@ struct ChartPanel {
   int y_column = 0;  // 1-based
   std::string title;
   std::string y_label;
+  std::string y_range = "[*:*]";  // gnuplot's syntax, e.g. "[*:100]"
+  std::string key = "bottom right";  // where the legend goes
 };
 
 struct Chart {
@@ -31,8 +33,7 @@ struct Chart {
   bool log_x = true;
   std::string x_format = "%g";  // gnuplot tic format, e.g. "10^{%T}"
   std::vector<ChartSeries> series;
-  std::vector<ChartPanel> panels;  // side by side, y in [*:y_max]
-  double y_max = 100.0;
+  std::vector<ChartPanel> panels;  // side by side
 };
 
 // A gnuplot script drawing the charts from csv_file (a name relative to the

@@ -259,9 +259,13 @@ std::vector<Chart> bench_charts(const std::string& title, const std::vector<Benc
     }
     return series;
   };
+  // The paper's norms saturate near 100 % on dim images; the RMSE of the
+  // display values keeps separating the runs there.
   const std::vector<ChartPanel> panels{
-      {bench_csv_column("within_10"), "within 10 %", "% of pixels within 10 % of the display range"},
-      {bench_csv_column("within_15"), "within 15 %", "% of pixels within 15 % of the display range"}};
+      {bench_csv_column("within_10"), "within 10 %", "% of pixels within 10 % of the display range", "[*:100]"},
+      {bench_csv_column("within_15"), "within 15 %", "% of pixels within 15 % of the display range", "[*:100]"},
+      {bench_csv_column("rmse"), "RMSE (lower is better)", "RMS difference of the display values", "[0:*]",
+       "top right"}};
   std::vector<Chart> charts;
   const auto add = [&](const std::string& file, const std::string& against, const std::string& column, double divisor,
                        const std::string& x_label, const std::string& x_format, bool with_path) {

@@ -144,6 +144,11 @@ TEST(BenchPlan, ChartsLeaveThePathTracerOffTheLinksChart) {
   EXPECT_EQ(charts[0].x_column, bench_csv_column("links"));
   EXPECT_EQ(charts[1].series.size(), 2u);
   EXPECT_EQ(charts[0].title, "room: image accuracy against links");
+  // The paper's two norms, then the RMSE, which still separates runs where they saturate.
+  ASSERT_EQ(charts[0].panels.size(), 3u);
+  EXPECT_EQ(charts[0].panels[0].y_column, bench_csv_column("within_10"));
+  EXPECT_EQ(charts[0].panels[1].y_column, bench_csv_column("within_15"));
+  EXPECT_EQ(charts[0].panels[2].y_column, bench_csv_column("rmse"));
   const std::string script = gnuplot_script("bench.csv", 1, charts);
   for (const char* part : {"pngcairo", "accuracy_vs_links.png", "accuracy_vs_memory.png", "set logscale x",
                            "strcol(1) eq 'linear'", "title 'path tracer'"}) {

@@ -672,7 +672,8 @@ void LinearSolver::solve(const std::function<void(int, double)>& progress) {
   const auto checkpoint = [this] {
     if (options_.checkpoint) options_.checkpoint();
   };
-  update_link_cap();
+  // The memory cap needs links to measure bytes per link: refine() sets it.
+  link_cap_ = options_.max_links > 0 ? options_.max_links : std::numeric_limits<std::size_t>::max();
   for (int it = 1; it <= options_.max_iterations; ++it) {
     checkpoint();
     const std::size_t before = links_now_;

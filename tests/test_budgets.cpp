@@ -195,6 +195,16 @@ TEST(Budgets, PeakMemoryStaysWithinTheMemoryBudgetPlusMargin) {
   EXPECT_LE(peak_mib, base_mib + 1.5 * 24) << "base " << base_mib << " MiB";
 }
 
+TEST(Budgets, MaxLinksWarnsAndIsRecordedInStats) {
+  std::string err;
+  const nlohmann::json capped = solve_cornell("budget_links", {"--max-links", "50000"}, &err);
+  EXPECT_NE(err.find("warning: --max-links reached"), std::string::npos) << err;
+  EXPECT_TRUE(capped["link_budget_reached"].get<bool>());
+  EXPECT_FALSE(capped["memory_budget_reached"].get<bool>());
+  EXPECT_LE(capped["links"].get<std::size_t>(),
+            50000 + kLinkOvershoot + capped["links_linked_past_budget"].get<std::size_t>());
+}
+
 TEST(Budgets, MaxMemoryTakesSizesAndRejectsNonsense) {
   const auto dir = test::fresh_dir("budget_flags");
   for (const std::string bad : {"-1", "12X", "lots", "1e400"}) {

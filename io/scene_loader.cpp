@@ -11,6 +11,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string_view>
 
 #include "io/openmesh_import.hpp"
@@ -526,6 +527,12 @@ LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& opti
   if (split.non_manifold_edges > 0) {
     result.warnings.push_back(geometry.string() + ": " + std::to_string(split.non_manifold_edges) +
                               " edges are shared by more than two faces; surfaces are cut along them");
+  }
+  for (const auto& [emitter, under] : split.lifted_emitters) {
+    std::ostringstream note;
+    note << geometry.string() << ": emitter " << scene.surfaces[emitter].name << " lies on the plane of "
+         << scene.surfaces[under].name << "; it is placed " << split.lift_distance << " in front of it";
+    result.warnings.push_back(note.str());
   }
   scene.camera = camera ? *camera : framing_camera(scene);
   return result;

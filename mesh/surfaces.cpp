@@ -54,6 +54,67 @@ double angle_deg(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
+namespace {
+
+// Relative to the scene's size: how far an emitter lying on a coplanar
+// surface is moved in front of it. Well above the ray offsets of the
+// visibility and path-tracing code (1e-5 of the scene), well below anything
+// a picture or a form factor could show.
+constexpr double kCoplanarLift = 1e-4;
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+
+// Whether two planar surfaces with the same front overlap in their common
+// plane: their bounding rectangles in that plane share an area.
+bool overlap_in_plane(const Surface& a, const Surface& b, double tolerance) {
+  const Vec3& n = a.normal;
+  const Vec3 u = (std::abs(n[0]) < 0.9 ? OpenMesh::cross(n, Vec3(1, 0, 0)) : OpenMesh::cross(n, Vec3(0, 1, 0))).normalized();
+  const Vec3 v = OpenMesh::cross(n, u);
+  const auto rectangle = [&](const Surface& s) {
+    std::array<double, 4> r{kUnbounded, -kUnbounded, kUnbounded, -kUnbounded};
+    for (const Vec3& p : s.points) {
+      r[0] = std::min(r[0], OpenMesh::dot(p, u));
+      r[1] = std::max(r[1], OpenMesh::dot(p, u));
+      r[2] = std::min(r[2], OpenMesh::dot(p, v));
+      r[3] = std::max(r[3], OpenMesh::dot(p, v));
+    }
+    return r;
+  };
+  const auto ra = rectangle(a), rb = rectangle(b);
+  return std::min(ra[1], rb[1]) - std::max(ra[0], rb[0]) > tolerance &&
+         std::min(ra[3], rb[3]) - std::max(ra[2], rb[2]) > tolerance;
+}
+
+void lift_coplanar_emitters(const PolygonSoup& soup, SurfaceSplit& split) {
+  Vec3 lo(kUnbounded, kUnbounded, kUnbounded), hi(-kUnbounded, -kUnbounded, -kUnbounded);
+  double magnitude = 0.0;
+  for (const Surface& s : split.surfaces) {
+    for (const Vec3& p : s.points) {
+      lo.minimize(p);
+      hi.maximize(p);
+      magnitude = std::max({magnitude, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+    }
+  }
+  const double diagonal = split.surfaces.empty() ? 0.0 : (hi - lo).norm();
+  const double lift = kCoplanarLift * std::max(diagonal, magnitude);
+  const double on_plane = kPlanarRelative * std::max(diagonal, magnitude);
+  for (std::size_t e = 0; e < split.surfaces.size(); ++e) {
+    Surface& emitter = split.surfaces[e];
+    if (!emitter.planar || !soup.materials[emitter.material].is_emitter()) continue;
+    for (std::size_t o = 0; o < split.surfaces.size(); ++o) {
+      const Surface& other = split.surfaces[o];
+      if (o == e || !other.planar || OpenMesh::dot(other.normal, emitter.normal) < 1.0 - 1e-9) continue;
+      if (std::abs(OpenMesh::dot(other.normal, emitter.points.front() - other.points.front())) > on_plane) continue;
+      if (!overlap_in_plane(emitter, other, on_plane)) continue;
+      for (Vec3& p : emitter.points) p += lift * emitter.normal;
+      split.lifted_emitters.emplace_back(static_cast<int>(e), static_cast<int>(o));
+      split.lift_distance = lift;
+      break;
+    }
+  }
+}
+
+}  // namespace
+
 SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg) {
   if (!std::isfinite(crease_angle_deg) || crease_angle_deg < 0.0 || crease_angle_deg > 180.0) {
     throw std::invalid_argument("crease angle must be in [0, 180] degrees, got " +
@@ -196,6 +257,7 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
       s.planar = false;
     }
   }
+  lift_coplanar_emitters(soup, split);
   return split;
 }
 

@@ -144,9 +144,10 @@ void ClassicalSolver::link_surfaces() {
   std::vector<PendingLink> pending;
   for (int r = 0; r < model_.num_surfaces(); ++r) {
     for (int s = 0; s < model_.num_surfaces(); ++s) {
-      // A surface does not light itself: planar ones cannot, and curved
-      // self-transfer is left to the other surfaces' links (documented limit).
-      if (r == s) continue;
+      // A planar surface does not light itself; a curved one does. Its
+      // elements see the faces through their own centre edge-on (form
+      // factor 0), so a link never carries an element's own light back.
+      if (r == s && scene.surfaces[r].planar) continue;
       const Surface& receiver = scene.surfaces[r];
       const Surface& shooter = scene.surfaces[s];
       if (!some_point_in_front(shooter, receiver, eps) || !some_point_in_front(receiver, shooter, eps)) continue;

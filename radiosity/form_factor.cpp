@@ -16,6 +16,10 @@ constexpr double kSingularTolerance = 1e-9;
 // The form factor is Lipschitz along a path inside the receiver, so the
 // error is of this order.
 constexpr double kApproachStep = 1e-8;
+// Height above the shooter's plane, relative to its size, that a limit path
+// must reach to count as in front of it (far below kApproachStep, far above
+// rounding).
+constexpr double kPlaneRounding = 1e-12;
 
 Vec3 newell_normal(std::span<const Vec3> polygon) {
   Vec3 n(0, 0, 0);
@@ -97,6 +101,13 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
     // Coplanar with the shooter and no in-plane way off it: cosθy = 0 everywhere.
     if (!(d_norm > 1e-12 * std::max(1.0, approach ? approach->norm() : 1.0))) return 0.0;
     eval_point = x + (kApproachStep * size / d_norm) * d;
+    // A path that stays in the shooter's plane (x on the shooter's own
+    // surface, approached from inside a coplanar face) sees it edge-on:
+    // cosθy = 0. Only rounding would put it in front, where the contour
+    // integral of an in-plane point is ±1, not 0.
+    const double rounding = 8.0 * std::numeric_limits<double>::epsilon() *
+                            std::max({eval_point.norm(), polygon[0].norm(), size});
+    if (OpenMesh::dot(shooter_normal, eval_point - polygon[0]) <= kPlaneRounding * size + rounding) return 0.0;
   }
   if (OpenMesh::dot(shooter_normal, eval_point - polygon[0]) <= 0.0) return 0.0;  // behind the shooter
 

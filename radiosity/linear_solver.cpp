@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "radiosity/receiver_oracle.hpp"
 #include "radiosity/sampling.hpp"
@@ -157,10 +158,9 @@ bool LinearSolver::link_new_shooters() {
     if (st.shooting || !(power > 0) || power < options_.link_power * total_emitted_power_) continue;
     st.shooting = true;
     for (int r = 0; r < model_.num_surfaces(); ++r) {
-      // A planar surface does not light itself; curved self-transfer is left
-      // to the other surfaces' links (documented limit). A black receiver
-      // reflects nothing.
-      if (r == s || !(max_channel(model_.material(r).reflectance) > 0)) continue;
+      // A planar surface does not light itself; a curved one does (the inside
+      // of a sphere lights the rest of it). A black receiver reflects nothing.
+      if ((r == s && scene.surfaces[s].planar) || !(max_channel(model_.material(r).reflectance) > 0)) continue;
       if (!some_point_in_front(scene.surfaces[s], scene.surfaces[r], eps) ||
           !some_point_in_front(scene.surfaces[r], scene.surfaces[s], eps)) {
         continue;
@@ -195,37 +195,94 @@ bool LinearSolver::link_new_shooters() {
   return !pending.empty();
 }
 
+std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, VertexId v) const {
+  // DESIGN §4 "Linear basis, point collocation", curved surfaces: the
+  // geometry is the faceted initial mesh, so a node on an initial vertex or
+  // edge has no single normal. Its hat function spans every initial face
+  // whose closure holds it, and each face sees the scene from its own plane;
+  // the node's value is the mean of the one-sided limits taken from inside
+  // those faces, weighted by how much of the node's neighbourhood each face
+  // is (its angle at an initial vertex; equal halves on an initial edge). A
+  // mean of face normals instead would make a closed surface's row sums
+  // fall short of 1 at every vertex (the faces through x are seen edge-on).
+  const SurfaceState& st = surfaces_[r];
+  const SurfaceHierarchy& h = model_.hierarchy(r);
+  const TriMesh& mesh = h.mesh();
+  const Vec3 x = h.point(v);
+  std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
+  int found = 0;
+  std::vector<VertexId> stack{v};
+  while (!stack.empty()) {
+    const VertexId u = stack.back();
+    stack.pop_back();
+    if (st.parents[u][0] != kNoVertex) {
+      stack.push_back(st.parents[u][0]);
+      stack.push_back(st.parents[u][1]);
+    } else if (std::find(ancestors.begin(), ancestors.begin() + found, u) == ancestors.begin() + found) {
+      if (found == 3) throw std::logic_error("receiver_sides: a node descends from more than one initial face");
+      ancestors[found++] = u;
+    }
+  }
+  std::vector<ReceiverSide> sides;
+  for (const auto fh : mesh.vf_range(OpenMesh::VertexHandle(ancestors[0]))) {
+    const auto& k = h.corners(h.root(fh.idx()));
+    const bool holds = std::all_of(ancestors.begin(), ancestors.begin() + found, [&](VertexId a) {
+      return std::find(k.begin(), k.end(), a) != k.end();
+    });
+    if (!holds) continue;
+    const NodeId root = h.root(fh.idx());
+    ReceiverSide side;
+    side.normal = model_.normal(r, root);
+    const Vec3 inward = model_.centroid(r, root) - x;
+    side.approach = inward.norm() > 0 ? inward / inward.norm() : Vec3(0, 0, 0);
+    side.weight = 1.0;
+    if (found == 1) {
+      const int c = static_cast<int>(std::find(k.begin(), k.end(), ancestors[0]) - k.begin());
+      const Vec3 a = h.point(k[(c + 1) % 3]) - x, b = h.point(k[(c + 2) % 3]) - x;
+      side.weight = std::atan2(OpenMesh::cross(a, b).norm(), OpenMesh::dot(a, b));
+    }
+    if (side.normal.sqrnorm() > 0 && side.weight > 0) sides.push_back(side);
+  }
+  return sides;
+}
+
 TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
                                                  std::uint64_t& rays) const {
   const int r = g.receiver_surface(), s = g.shooter_surface();
   const VertexId v = g.vertex(vertex);
-  const SurfaceState& st = surfaces_[r];
   const Surface& surface = model_.scene().surfaces[r];
   ReceiverPoint point;
   point.x = model_.hierarchy(r).point(v);
-  point.approach = st.approach[v];
-  // Planar surfaces have one normal; a curved one takes its vertex normal
-  // from the initial mesh (midpoints: the mean of their edge's end points).
-  point.normal = surface.planar ? surface.normal : Vec3(0, 0, 0);
-  if (!surface.planar) {
-    const TriMesh& mesh = model_.hierarchy(r).mesh();
-    std::vector<VertexId> stack{v};
-    while (!stack.empty()) {
-      const VertexId u = stack.back();
-      stack.pop_back();
-      if (st.parents[u][0] == kNoVertex) {
-        point.normal += mesh.calc_vertex_normal(OpenMesh::VertexHandle(u));
-      } else {
-        stack.push_back(st.parents[u][0]);
-        stack.push_back(st.parents[u][1]);
-      }
-    }
-    if (point.normal.norm() > 0) point.normal.normalize();
-  }
   TransportSampling sampling;
   sampling.k = options_.visibility_samples;
   sampling.key = sample_key((static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
                             static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
+  if (surface.planar) {
+    point.normal = surface.normal;
+    point.approach = surfaces_[r].approach[v];
+    return transport_to(point, s, shooter, sampling, rays);
+  }
+  const std::vector<ReceiverSide> sides = receiver_sides(r, v);
+  double total_weight = 0.0;
+  for (const ReceiverSide& side : sides) total_weight += side.weight;
+  std::array<double, 3> f{0.0, 0.0, 0.0};
+  double unoccluded = 0.0;
+  for (const ReceiverSide& side : sides) {
+    point.normal = side.normal;
+    point.approach = side.approach;
+    const TransportCoefficients c = transport_to(point, s, shooter, sampling, rays);
+    const double w = side.weight / total_weight;
+    for (int l = 0; l < 3; ++l) f[l] += w * c.f[l];
+    unoccluded += w * c.unoccluded;
+  }
+  TransportCoefficients out;
+  for (int l = 0; l < 3; ++l) out.f[l] = static_cast<float>(f[l]);
+  out.unoccluded = static_cast<float>(unoccluded);
+  return out;
+}
+
+TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int s, NodeId shooter,
+                                                 const TransportSampling& sampling, std::uint64_t& rays) const {
   if (is_cluster_element(shooter)) {
     const RootCluster& c = surfaces_[s].clusters[cluster_index(shooter)];
     std::vector<std::array<Vec3, 3>> triangles;

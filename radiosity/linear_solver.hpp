@@ -153,6 +153,15 @@ class LinearSolver {
   void compute_coefficients(std::vector<PendingLink>& pending);
   TransportCoefficients coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
                                      std::uint64_t& rays) const;
+  // One face of a curved surface that a node lies on, seen from inside it.
+  struct ReceiverSide {
+    Vec3 normal;
+    Vec3 approach;
+    double weight;
+  };
+  std::vector<ReceiverSide> receiver_sides(int r, VertexId v) const;
+  TransportCoefficients transport_to(const ReceiverPoint& point, int s, NodeId shooter,
+                                     const TransportSampling& sampling, std::uint64_t& rays) const;
   void gather();
   double push();
   void update_importance();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,10 +13,30 @@ namespace {
 // TR93 works in lamberts: 1 L = 10⁴/π cd/m².
 constexpr double kCdPerLambert = 1e4 / M_PI;
 
-double alpha(double lamberts) { return 0.4 * std::log10(lamberts) + 2.92; }
-double beta(double lamberts) {
-  const double l = std::log10(lamberts);
-  return -0.4 * l * l - 2.584 * l + 2.0208;
+// The range of adaptation luminances, as log10 lamberts, where TR93's fitted
+// α(x) = 0.4x + 2.92 and β(x) = −0.4x² − 2.584x + 2.0208 (DESIGN §4) describe
+// vision. TR93 reads log10 B = α(x_a)·x + β(x_a) as the brightness of luminance x
+// seen adapted to x_a (Stevens' brightness functions): adapting to more light
+// must dim the adapting luminance itself, ∂/∂x_a = 0.4x_a + β'(x_a) =
+// −0.4x_a − 2.584 ≤ 0, i.e. x_a ≥ −2.584/0.4 = −6.46 (≈1.1·10⁻³ cd/m²). Below it β
+// rises faster than α·x falls, and from −7.3 (≈1.6·10⁻⁴ cd/m²) α ≤ 0, so the map's
+// exponent α(L_wa)/α(L_da) reaches zero and then inverts it. At −6.46, α = 0.336,
+// so the exponent stays positive. β's own vertex (x = −3.23, ≈1.9 cd/m²) is no
+// bound: there β's rise only offsets the fall of α·x (α(x)·x + β(x) = 0.336x +
+// 2.0208 is linear), and clamping at it would black out every interior adapted
+// below 1.9 cd/m², the default Cornell box among them. Above,
+// α rises and β falls without turning back, so there is no upper bound; the map
+// is evaluated in logarithms so that extreme luminances stay finite.
+constexpr double kMinAdaptationLog10Lamberts = -2.584 / 0.4;
+
+double adaptation_log10_lamberts(double log10_cd_m2) {
+  return std::max(log10_cd_m2 - std::log10(kCdPerLambert), kMinAdaptationLog10Lamberts);
+}
+
+double alpha(double log10_lamberts) { return 0.4 * log10_lamberts + 2.92; }
+double beta(double log10_lamberts) {
+  const double x = log10_lamberts;
+  return -0.4 * x * x - 2.584 * x + 2.0208;
 }
 
 double apply_gamma(double v, double gamma) { return std::pow(std::clamp(v, 0.0, 1.0), 1.0 / gamma); }
@@ -30,23 +51,28 @@ std::array<std::uint8_t, 3> ToneMap::display_bytes(const Rgb& radiance) const {
 }
 
 TumblinRushmeierToneMap::TumblinRushmeierToneMap(const TumblinRushmeierParams& p) : p_(p) {
-  if (!(p.world_adaptation > 0) || !(p.units_to_cd_m2 > 0) || !(p.display_max_cd_m2 > 0) ||
-      !(p.max_contrast > 1) || !(p.gamma > 0) || !std::isfinite(p.world_adaptation)) {
+  const bool finite = std::isfinite(p.world_adaptation) && std::isfinite(p.units_to_cd_m2) &&
+                      std::isfinite(p.display_max_cd_m2) && std::isfinite(p.max_contrast) && std::isfinite(p.gamma);
+  if (!finite || !(p.world_adaptation > 0) || !(p.units_to_cd_m2 > 0) || !(p.display_max_cd_m2 > 0) ||
+      !(p.max_contrast > 1) || !(p.gamma > 0)) {
     throw std::invalid_argument(
-        "Tumblin-Rushmeier tone map: adaptation, unit scale, display maximum and gamma must be positive and "
-        "the maximum contrast above 1");
+        "Tumblin-Rushmeier tone map: adaptation, unit scale, display maximum and gamma must be positive and finite "
+        "and the maximum contrast above 1");
   }
-  const double l_wa = p.world_adaptation * p.units_to_cd_m2 / kCdPerLambert;
-  const double l_da = p.display_max_cd_m2 / std::sqrt(p.max_contrast) / kCdPerLambert;
-  exponent_ = alpha(l_wa) / alpha(l_da);
-  log_multiplier_ = (beta(l_wa) - beta(l_da)) / alpha(l_da);
+  // Logarithms first: world_adaptation × units_to_cd_m2 may overflow or underflow.
+  const double x_wa = adaptation_log10_lamberts(std::log10(p.world_adaptation) + std::log10(p.units_to_cd_m2));
+  const double x_da = adaptation_log10_lamberts(std::log10(p.display_max_cd_m2 / std::sqrt(p.max_contrast)));
+  exponent_ = alpha(x_wa) / alpha(x_da);
+  log_multiplier_ = (beta(x_wa) - beta(x_da)) / alpha(x_da);
+  log_lamberts_per_unit_ = std::log10(p.units_to_cd_m2) - std::log10(kCdPerLambert);
 }
 
 double TumblinRushmeierToneMap::display_luminance_cd_m2(double world_luminance) const {
   if (!(world_luminance > 0)) return 0.0;
-  const double l_w = world_luminance * p_.units_to_cd_m2 / kCdPerLambert;
-  const double l_d = std::pow(l_w, exponent_) * std::pow(10.0, log_multiplier_);
-  return l_d * kCdPerLambert;
+  // DESIGN §4: log10 L_d = (α(L_wa)/α(L_da))·log10 L_w + (β(L_wa) − β(L_da))/α(L_da), in lamberts;
+  // over- or underflow of 10^x gives +inf or 0, never NaN.
+  const double x_w = std::log10(world_luminance) + log_lamberts_per_unit_;
+  return std::pow(10.0, exponent_ * x_w + log_multiplier_) * kCdPerLambert;
 }
 
 double TumblinRushmeierToneMap::display(double world_luminance) const {
@@ -55,12 +81,21 @@ double TumblinRushmeierToneMap::display(double world_luminance) const {
 }
 
 Rgb TumblinRushmeierToneMap::display_rgb(const Rgb& radiance) const {
-  const double y = luminance(radiance);
-  if (!(y > 0)) return Rgb(0, 0, 0);
-  const double scale = display_luminance_cd_m2(y) / (y * p_.display_max_cd_m2);
+  // Channel ratios are taken against the largest channel so that huge radiances
+  // cannot turn them into inf/inf; negative and NaN channels show as black.
+  Rgb unit(0, 0, 0);
+  double largest = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    unit[k] = radiance[k] > 0 ? std::min(radiance[k], std::numeric_limits<double>::max()) : 0.0;
+    largest = std::max(largest, unit[k]);
+  }
+  if (!(largest > 0)) return Rgb(0, 0, 0);
+  for (int k = 0; k < 3; ++k) unit[k] /= largest;
+  const double y_unit = luminance(unit);
+  const double shown = display_luminance_cd_m2(largest * y_unit) / p_.display_max_cd_m2;
   const double offset = 1.0 / p_.max_contrast;
   Rgb out;
-  for (int k = 0; k < 3; ++k) out[k] = apply_gamma(radiance[k] * scale - offset, p_.gamma);
+  for (int k = 0; k < 3; ++k) out[k] = unit[k] > 0 ? apply_gamma(unit[k] / y_unit * shown - offset, p_.gamma) : 0.0;
   return out;
 }
 

@@ -34,7 +34,10 @@ struct TumblinRushmeierParams {
   double gamma = 2.2;
 };
 
-// Tumblin–Rushmeier 1993 (paper ref. 18), with the constants of DESIGN §4.
+// Tumblin–Rushmeier 1993 (paper ref. 18), with the constants of DESIGN §4. The
+// adaptation luminances are held to the range where the model cannot flatten or
+// invert (at least ≈1.1·10⁻³ cd/m², see tone_map.cpp), so display() is monotone
+// non-decreasing in the world luminance at every adaptation.
 class TumblinRushmeierToneMap final : public ToneMap {
  public:
   explicit TumblinRushmeierToneMap(const TumblinRushmeierParams& p);
@@ -48,6 +51,7 @@ class TumblinRushmeierToneMap final : public ToneMap {
   TumblinRushmeierParams p_;
   double exponent_ = 1.0;       // α(L_wa)/α(L_da)
   double log_multiplier_ = 0.0;  // (β(L_wa) − β(L_da))/α(L_da)
+  double log_lamberts_per_unit_ = 0.0;
 };
 
 // Maps `white` to 1, linearly, then gamma.

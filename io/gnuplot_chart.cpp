@@ -1,5 +1,6 @@
 #include "io/gnuplot_chart.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -38,19 +39,24 @@ std::string gnuplot_script(const std::string& csv_file, int key_column, const st
   s << "# Charts of " << csv_file << ": run 'gnuplot " << "charts.gp' in this directory to redraw them.\n"
     << "set datafile separator ','\n"
     << "if (!exists('out_prefix')) out_prefix = ''\n"
-    << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-    << "  set terminal pngcairo enhanced size 1500,480 font 'sans,10'\n"
-    << "} else {\n"
-    << "  set terminal png enhanced size 1500,480\n"
-    << "}\n"
+    << "cairo = strstrt(GPVAL_TERMINALS, 'pngcairo') > 0\n"
     << "set grid\n";
   for (std::size_t i = 0; i < std::size(kLineStyles); ++i) {
     s << "set style line " << i + 1 << " " << kLineStyles[i] << "\n";
   }
   for (const Chart& chart : charts) {
+    const std::size_t per_row = chart.panels_per_row > 0 ? static_cast<std::size_t>(chart.panels_per_row)
+                                                         : std::max<std::size_t>(1, chart.panels.size());
+    const std::size_t rows = std::max<std::size_t>(1, (chart.panels.size() + per_row - 1) / per_row);
+    const std::string size = std::to_string(500 * per_row) + "," + std::to_string(480 * rows);
     s << "\n# " << chart.file << "\n"
+      << "if (cairo) {\n"
+      << "  set terminal pngcairo enhanced size " << size << " font 'sans,10'\n"
+      << "} else {\n"
+      << "  set terminal png enhanced size " << size << "\n"
+      << "}\n"
       << "set output out_prefix." << quoted(chart.file) << "\n"
-      << "set multiplot layout 1," << chart.panels.size() << " title " << quoted(chart.title) << " noenhanced\n"
+      << "set multiplot layout " << rows << "," << per_row << " title " << quoted(chart.title) << " noenhanced\n"
       << (chart.log_x ? "set logscale x\n" : "unset logscale x\n") << "set format x " << quoted(chart.x_format)
       << "\n"
       << "set xlabel " << quoted(chart.x_label) << " noenhanced\n";
@@ -58,8 +64,19 @@ std::string gnuplot_script(const std::string& csv_file, int key_column, const st
       s << "set yrange " << panel.y_range << "\n"
         << "set key " << panel.key << "\n"
         << "set title " << quoted(panel.title) << " noenhanced\n"
-        << "set ylabel " << quoted(panel.y_label) << " noenhanced\n"
-        << "plot";
+        << "set ylabel " << quoted(panel.y_label) << " noenhanced\n";
+      if (panel.y_line) {
+        // An arrow spans the whole width; the undrawn function keeps the
+        // line's y inside the autoscaled range, the offsets off the border.
+        std::ostringstream y;
+        y << std::setprecision(15) << *panel.y_line;
+        s << "set offsets 0, 0, graph 0.05, graph 0.05\n"
+          << "set arrow 1 from graph 0, first " << y.str() << " to graph 1, first " << y.str()
+          << " nohead dt 2 lc rgb '#808080'\n"
+          << "plot " << y.str() << " with lines lt nodraw notitle,";
+      } else {
+        s << "set offsets 0, 0, 0, 0\nunset arrow 1\nplot";
+      }
       for (std::size_t i = 0; i < chart.series.size(); ++i) {
         const ChartSeries& series = chart.series[i];
         std::ostringstream x;

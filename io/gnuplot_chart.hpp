@@ -4,6 +4,7 @@
 // PNGs atomically. `lhr bench` draws its accuracy charts with it.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ struct ChartPanel {
   std::string y_label;
   std::string y_range = "[*:*]";  // gnuplot's syntax, e.g. "[*:100]"
   std::string key = "bottom right";  // where the legend goes
+  std::optional<double> y_line;      // a dashed horizontal line at this y (e.g. the ideal value)
 };
 
 struct Chart {
@@ -33,7 +35,8 @@ struct Chart {
   bool log_x = true;
   std::string x_format = "%g";  // gnuplot tic format, e.g. "10^{%T}"
   std::vector<ChartSeries> series;
-  std::vector<ChartPanel> panels;  // side by side
+  std::vector<ChartPanel> panels;  // left to right, then top to bottom
+  int panels_per_row = 0;          // 0: all in one row
 };
 
 // A gnuplot script drawing the charts from csv_file (a name relative to the

@@ -159,8 +159,10 @@ BenchOutcome run_bench(const Scene& scene, const Camera& camera, const BenchSett
     return s.str();
   };
   const auto result_text = [](const BenchRow& row) {
-    return one_decimal(row.record["seconds_total"].get<double>()) + " s, " + one_decimal(row.metrics.within_10) +
-           " % within 10 %";
+    std::ostringstream ratio;
+    ratio << std::fixed << std::setprecision(3) << row.metrics.mean_ratio;
+    return one_decimal(row.record["seconds_total"].get<double>()) + " s, " + one_decimal(row.metrics.rel_within_10) +
+           " % within 10 % (luminance), mean ratio " + ratio.str();
   };
   std::vector<std::optional<BenchRow>> slots(n);
   std::vector<std::vector<std::string>> arguments(n);
@@ -174,7 +176,9 @@ BenchOutcome run_bench(const Scene& scene, const Camera& camera, const BenchSett
   };
 
   // Rows finished by an earlier bench with the same arguments are kept; the
-  // metrics are recomputed, against the reference in use now.
+  // metrics are recomputed from the run's image, against the reference in use
+  // now, so row.json holds no metric and a row written before a metric
+  // existed gets it too.
   for (std::size_t i = 0; i < n; ++i) {
     const BenchRun& run = settings.runs[i];
     arguments[i] = bench_run_arguments(run, settings.scene.string(), settings.solve_arguments,

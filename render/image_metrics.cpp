@@ -28,6 +28,34 @@ Rgb pixel_rgb(const Image& image, std::size_t i) {
   return Rgb(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]);
 }
 
+double pixel_luminance(const Image& image, std::size_t i) { return luminance(pixel_rgb(image, i)); }
+
+struct LuminanceSums {
+  std::size_t pixels = 0;
+  double image = 0.0;
+  double reference = 0.0;
+};
+
+LuminanceSums luminance_sums(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask) {
+  LuminanceSums sums;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    sums.image += pixel_luminance(image, i);
+    sums.reference += pixel_luminance(reference, i);
+    ++sums.pixels;
+  }
+  return sums;
+}
+
+double ratio_of_sums(const LuminanceSums& sums) {
+  if (sums.reference != 0.0) return sums.image / sums.reference;
+  return sums.image == 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
+}
+
+// DESIGN §5: the denominator of a pixel's relative error, never below the
+// floor, so near-black reference pixels are judged by an absolute error.
+double relative_scale(double reference_luminance, double floor) { return std::max(reference_luminance, floor); }
+
 }  // namespace
 
 std::vector<std::uint8_t> nonzero_mask(const Image& reference) {
@@ -50,6 +78,34 @@ std::unique_ptr<ToneMap> reference_tone_map(const ToneMapChoice& tone, const Ima
     if (mask[i]) brightest = std::max(brightest, luminance(pixel_rgb(reference, i)));
   }
   return make_tone_map(tone, log_average_luminance(reference, mask), brightest);
+}
+
+double relative_within(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask,
+                       double tolerance, double floor_fraction) {
+  check_sizes(image, reference, mask);
+  if (!std::isfinite(tolerance) || tolerance < 0.0) {
+    throw std::invalid_argument("the tolerance of the relative norm must be a finite number >= 0, not " +
+                                std::to_string(tolerance));
+  }
+  if (!std::isfinite(floor_fraction) || floor_fraction < 0.0) {
+    throw std::invalid_argument("the floor of the relative norm must be a finite number >= 0, not " +
+                                std::to_string(floor_fraction));
+  }
+  const LuminanceSums sums = luminance_sums(image, reference, mask);
+  if (sums.pixels == 0) return 0.0;
+  const double floor = floor_fraction * sums.reference / static_cast<double>(sums.pixels);
+  std::size_t within = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    const double y = pixel_luminance(image, i), y_ref = pixel_luminance(reference, i);
+    within += std::abs(y - y_ref) <= tolerance * relative_scale(y_ref, floor);
+  }
+  return 100.0 * static_cast<double>(within) / static_cast<double>(sums.pixels);
+}
+
+double mean_luminance_ratio(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask) {
+  check_sizes(image, reference, mask);
+  return ratio_of_sums(luminance_sums(image, reference, mask));
 }
 
 ImageMetrics compare_images(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask,
@@ -77,6 +133,11 @@ ImageMetrics compare_images(const Image& image, const Image& reference, const st
   }
   if (m.pixels == 0) return m;
   const double n = static_cast<double>(m.pixels);
+  const LuminanceSums sums = luminance_sums(image, reference, mask);
+  m.rel_within_10 = relative_within(image, reference, mask, kNear);
+  m.rel_within_15 = relative_within(image, reference, mask, kFar);
+  m.mean_ratio = ratio_of_sums(sums);
+  m.reference_mean_luminance = sums.reference / n;
   m.within_10 = 100.0 * static_cast<double>(near) / n;
   m.within_15 = 100.0 * static_cast<double>(far) / n;
   m.rmse = std::sqrt(squares / (3.0 * n));
@@ -87,23 +148,29 @@ ImageMetrics compare_images(const Image& image, const Image& reference, const st
   return m;
 }
 
-Image difference_image(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask,
-                       const ToneMap& tone) {
+Image difference_image(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask) {
   check_sizes(image, reference, mask);
+  const LuminanceSums sums = luminance_sums(image, reference, mask);
+  const double floor = sums.pixels ? kLuminanceFloor * sums.reference / static_cast<double>(sums.pixels) : 0.0;
   Image out(reference.width, reference.height);
   for (std::size_t i = 0; i < mask.size(); ++i) {
     if (!mask[i]) continue;
-    const Rgb da = tone.display_rgb(pixel_rgb(image, i)), db = tone.display_rgb(pixel_rgb(reference, i));
-    const double d = std::max({std::abs(da[0] - db[0]), std::abs(da[1] - db[1]), std::abs(da[2] - db[2])});
+    const double y = pixel_luminance(image, i), y_ref = pixel_luminance(reference, i);
+    const double difference = y - y_ref;
+    const double scale = relative_scale(y_ref, floor);
+    // The same comparison as relative_within, so the colours match its counts.
     float* p = &out.rgb[3 * i];
-    if (d <= kNear) {
-      // Dark grey even at zero difference, so compared pixels stand out from the background.
-      const float g = static_cast<float>(0.15 + 0.6 * d / kNear);
+    if (std::abs(difference) <= kNear * scale) {
+      // Dark grey even at zero error, so compared pixels stand out from the background.
+      const double e = scale > 0 ? std::abs(difference) / scale : 0.0;
+      const float g = static_cast<float>(0.15 + 0.6 * e / kNear);
       p[0] = p[1] = p[2] = g;
-    } else if (d <= kFar) {
+    } else if (std::abs(difference) <= kFar * scale) {
       p[0] = 1.0f, p[1] = 0.85f, p[2] = 0.0f;
-    } else {
+    } else if (difference > 0) {
       p[0] = 1.0f, p[1] = 0.0f, p[2] = 0.0f;
+    } else {
+      p[0] = 0.0f, p[1] = 0.35f, p[2] = 1.0f;
     }
   }
   return out;

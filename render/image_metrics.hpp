@@ -1,14 +1,23 @@
 #pragma once
-// How close an image is to a reference (DESIGN §5 "Metrics"): the paper's
-// norm (after Drettakis and Fiume) — the share of pixels whose display
-// intensity differs from the reference's by at most 10 % and 15 % of the
-// display range — plus RMSE and PSNR of the display values and the relative
-// error of the linear radiance. Background pixels are excluded.
+// How close an image is to a reference (DESIGN §5 "How accuracy is judged").
 //
-// Display values are the tone map's per-channel output in [0,1] (gamma
-// applied), and a pixel's difference is the largest over its three channels:
-// a pixel counts as within 10 % only if red, green and blue all are, so
-// colour errors (colour bleeding) count as well as brightness errors.
+// Primary: the relative norm on linear luminance. The truth is radiance, so
+// a pixel is within t when |Y − Y_ref| ≤ t · max(Y_ref, f · mean Y_ref),
+// Y the Rec. 709 luminance of the linear RGB, mean Y_ref over the compared
+// pixels and the floor f = 1 % (near-black pixels would otherwise count a
+// tiny absolute error as a huge relative one). The mean ratio
+// mean Y / mean Y_ref reads a global bias directly (1.05: 5 % too bright).
+//
+// Secondary: the paper's norm (after Drettakis and Fiume) — the share of
+// pixels whose display intensity differs from the reference's by at most
+// 10 % and 15 % of the display range — plus RMSE and PSNR of the display
+// values and the relative error of the linear radiance. Display values are
+// the tone map's per-channel output in [0,1] (gamma applied), and a pixel's
+// difference is the largest over its three channels. With a dim tone map
+// every method passes the display norm, so it cannot rank methods or catch a
+// bias (DESIGN §5); it is kept to compare with the paper's figures.
+//
+// Background pixels (mask 0) are left out of every figure.
 
 #include <cstdint>
 #include <memory>
@@ -20,8 +29,17 @@
 
 namespace lhr {
 
+// DESIGN §5: the floor of the relative norm, a fraction of mean Y_ref.
+constexpr double kLuminanceFloor = 0.01;
+
 struct ImageMetrics {
-  std::size_t pixels = 0;         // pixels compared (non-background)
+  std::size_t pixels = 0;  // pixels compared (non-background)
+  // Primary, linear luminance.
+  double rel_within_10 = 0.0;  // % of them with |Y − Y_ref| ≤ 0.10 · max(Y_ref, floor)
+  double rel_within_15 = 0.0;  // % of them with |Y − Y_ref| ≤ 0.15 · max(Y_ref, floor)
+  double mean_ratio = 0.0;     // mean Y / mean Y_ref; 1 when both are 0, +inf when only Y_ref's is
+  double reference_mean_luminance = 0.0;  // mean Y_ref
+  // Secondary, the paper's display-value norm and its companions.
   double within_10 = 0.0;         // % of them with display difference ≤ 0.10
   double within_15 = 0.0;         // % of them with display difference ≤ 0.15
   double rmse = 0.0;              // RMS display difference over pixels and channels
@@ -41,14 +59,27 @@ std::vector<std::uint8_t> nonzero_mask(const Image& reference);
 std::unique_ptr<ToneMap> reference_tone_map(const ToneMapChoice& tone, const Image& reference,
                                             const std::vector<std::uint8_t>& mask);
 
-// Both images go through the same tone map. mask: 1 = compare this pixel.
-// Throws std::invalid_argument when the sizes differ.
+// The relative norm: % of masked pixels with
+// |Y − Y_ref| ≤ tolerance · max(Y_ref, floor_fraction · mean Y_ref).
+// 0 when no pixel is masked. Throws std::invalid_argument when the sizes
+// differ or tolerance or floor_fraction is negative or not finite.
+double relative_within(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask,
+                       double tolerance, double floor_fraction = kLuminanceFloor);
+
+// mean Y / mean Y_ref over the masked pixels (1 when both are 0, +inf when
+// only the reference's is). Throws std::invalid_argument when the sizes differ.
+double mean_luminance_ratio(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask);
+
+// Every figure above. The display figures take both images through the same
+// tone map. mask: 1 = compare this pixel. Throws std::invalid_argument when
+// the sizes differ.
 ImageMetrics compare_images(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask,
                             const ToneMap& tone);
 
-// A picture of where the image is off: background black; pixels within 10 %
-// grey, brighter with the difference; within 15 % yellow; beyond, red.
-Image difference_image(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask,
-                       const ToneMap& tone);
+// A picture of the relative luminance error e = (Y − Y_ref) / max(Y_ref,
+// floor): background black; |e| ≤ 10 % grey, brighter with |e|; ≤ 15 %
+// yellow; beyond, red where the image is too bright and blue where it is
+// too dark. Throws std::invalid_argument when the sizes differ.
+Image difference_image(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask);
 
 }  // namespace lhr

@@ -1,6 +1,7 @@
 // `lhr bench`: its lists, bench.csv's format and charts (no process), and
 // one small sweep end to end: the documented columns, one row per run with
-// metrics in [0,100], PNG charts, and a second run that resumes.
+// metrics in [0,100], PNG charts, a second run that resumes, and a resumed
+// run scored again from its image.
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "io/image_io.hpp"
 #include "render/bench_plan.hpp"
 #include "test_support.hpp"
 
@@ -24,7 +28,7 @@ const char* const kDocumentedHeader =
     "method,parameters,eps_link,eps_pixel,eps_bf,spp,links,nodes,elements,seconds_total,seconds_meshing,"
     "seconds_solve,seconds_linking,seconds_refine,seconds_coefficients,seconds_gather,seconds_push_pull,"
     "seconds_oracles,seconds_importance,seconds_view,seconds_output,peak_rss_bytes,graph_bytes,graph_overhead,"
-    "within_10,within_15,rmse,psnr_db,relative_error";
+    "rel_within_10,rel_within_15,mean_ratio,within_10,within_15,rmse,psnr_db,relative_error";
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;
@@ -106,6 +110,9 @@ TEST(BenchPlan, CsvHasFixedDecimalsAndEmptyCellsWhereAColumnDoesNotApply) {
                                 {"elements", 37347},
                                 {"seconds", {{"meshing", 0.5}, {"solve", 7.25}, {"oracles", 1.0 / 3.0}}},
                                 {"bytes", {{"graphs", 123456}, {"graph_overhead", 0.0912345}}}});
+  linear.metrics.rel_within_10 = 71.5;
+  linear.metrics.rel_within_15 = 88.0004;
+  linear.metrics.mean_ratio = 0.98765432;
   linear.metrics.within_10 = 94.123456;
   linear.metrics.within_15 = 100.0;
   linear.metrics.rmse = 0.0123456789;
@@ -114,14 +121,15 @@ TEST(BenchPlan, CsvHasFixedDecimalsAndEmptyCellsWhereAColumnDoesNotApply) {
   BenchRow path{parse_spp_list("16")[0], bench_record({"reference"}, 2.0, 50 << 20, nullptr), {}};
   path.metrics.within_10 = 50.0;
   path.metrics.psnr_db = std::numeric_limits<double>::infinity();
+  path.metrics.mean_ratio = std::numeric_limits<double>::infinity();
   const std::string csv = bench_csv({linear, path});
   const auto lines = split(csv, '\n');
   ASSERT_EQ(lines.size(), 4u) << csv;  // header, two rows, and the end of the last line
   EXPECT_EQ(lines[0], kDocumentedHeader);
   EXPECT_EQ(lines[1],
             "linear,eps_link=10 eps_pixel=0.3,10,0.3,,,2506952,50000,37347,8.432,0.500,7.250,,,,,,0.333,,,,"
-            "334000128,123456,0.0912,94.123,100.000,0.012346,38.170,0.050000");
-  EXPECT_EQ(lines[2], "path,spp=16,,,,16,,,,2.000,,,,,,,,,,,,52428800,,,50.000,0.000,0.000000,,0.000000");
+            "334000128,123456,0.0912,71.500,88.000,0.987654,94.123,100.000,0.012346,38.170,0.050000");
+  EXPECT_EQ(lines[2], "path,spp=16,,,,16,,,,2.000,,,,,,,,,,,,52428800,,,0.000,0.000,,50.000,0.000,0.000000,,0.000000");
   EXPECT_EQ(lines[3], "");
   for (const std::string& line : {lines[1], lines[2]}) {
     EXPECT_EQ(split(line, ',').size(), bench_csv_columns().size()) << line;
@@ -144,14 +152,19 @@ TEST(BenchPlan, ChartsLeaveThePathTracerOffTheLinksChart) {
   EXPECT_EQ(charts[0].x_column, bench_csv_column("links"));
   EXPECT_EQ(charts[1].series.size(), 2u);
   EXPECT_EQ(charts[0].title, "room: image accuracy against links");
-  // The paper's two norms, then the RMSE, which still separates runs where they saturate.
-  ASSERT_EQ(charts[0].panels.size(), 3u);
-  EXPECT_EQ(charts[0].panels[0].y_column, bench_csv_column("within_10"));
-  EXPECT_EQ(charts[0].panels[1].y_column, bench_csv_column("within_15"));
-  EXPECT_EQ(charts[0].panels[2].y_column, bench_csv_column("rmse"));
+  // Top row the primary figures (relative luminance norm, mean ratio with its
+  // ideal 1 drawn); bottom row the paper's display norm and the display RMSE.
+  ASSERT_EQ(charts[0].panels.size(), 6u);
+  EXPECT_EQ(charts[0].panels_per_row, 3);
+  const char* const order[] = {"rel_within_10", "rel_within_15", "mean_ratio", "within_10", "within_15", "rmse"};
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(charts[0].panels[i].y_column, bench_csv_column(order[i])) << order[i];
+    EXPECT_EQ(charts[0].panels[i].y_line.has_value(), i == 2) << order[i];
+  }
   const std::string script = gnuplot_script("bench.csv", 1, charts);
   for (const char* part : {"pngcairo", "accuracy_vs_links.png", "accuracy_vs_memory.png", "set logscale x",
-                           "strcol(1) eq 'linear'", "title 'path tracer'"}) {
+                           "strcol(1) eq 'linear'", "title 'path tracer'", "multiplot layout 2,3",
+                           "size 1500,960", "set arrow 1 from graph 0, first 1 to graph 1, first 1"}) {
     EXPECT_NE(script.find(part), std::string::npos) << part;
   }
 }
@@ -204,10 +217,13 @@ TEST_F(BenchCommand, SweepsWritesTheDocumentedCsvAndChartsThenResumes) {
     const auto cells = split(lines[i + 1], ',');
     ASSERT_EQ(cells.size(), bench_csv_columns().size());
     EXPECT_EQ(cells[0], methods[i]);
-    for (const char* metric : {"within_10", "within_15"}) {
+    for (const char* metric : {"rel_within_10", "rel_within_15", "within_10", "within_15"}) {
       const double v = std::stod(cells[column(metric)]);
       EXPECT_TRUE(std::isfinite(v) && v >= 0.0 && v <= 100.0) << metric << " " << v;
     }
+    EXPECT_LE(std::stod(cells[column("rel_within_10")]), std::stod(cells[column("rel_within_15")]));
+    const double ratio = std::stod(cells[column("mean_ratio")]);
+    EXPECT_TRUE(std::isfinite(ratio) && ratio > 0.0) << ratio;
     EXPECT_GT(std::stod(cells[column("seconds_total")]), 0.0);
     EXPECT_GT(std::stod(cells[column("peak_rss_bytes")]), 1e6);
     EXPECT_EQ(cells[column("links")].empty(), methods[i] == "path");
@@ -246,6 +262,26 @@ TEST_F(BenchCommand, SweepsWritesTheDocumentedCsvAndChartsThenResumes) {
   EXPECT_NE(limited.err.find("not run (1): path spp=32"), std::string::npos) << limited.err;
   EXPECT_EQ(test::read_text(out / "bench.csv"), csv);
   EXPECT_FALSE(std::filesystem::exists(out / "runs" / "path-32"));
+
+  // Metrics are not stored with a run but scored again from its image on
+  // every resume, so rows finished before a metric existed get it: a run's
+  // image made twice as bright (exact in the EXR's half floats) shows as a
+  // mean ratio twice as large.
+  const std::filesystem::path run = out / "runs" / "classical-0.05";
+  const nlohmann::json record = nlohmann::json::parse(test::read_text(run / "row.json"));
+  for (const auto& [key, value] : record.items()) {
+    EXPECT_TRUE(key == "arguments" || key == "seconds_total" || key == "peak_rss_bytes" || key == "stats") << key;
+  }
+  Image image = read_image(run / "image.exr");
+  for (float& v : image.rgb) v *= 2.0f;
+  write_image(run / "image.exr", image);
+  const auto rescored = test::run_lhr(bench_args());
+  ASSERT_EQ(rescored.exit_code, 0) << rescored.err;
+  EXPECT_EQ(rescored.err.find(" ... "), std::string::npos) << rescored.err;
+  const auto before = split(lines[2], ','), after = split(split(test::read_text(out / "bench.csv"), '\n')[2], ',');
+  ASSERT_EQ(after[0], "classical");
+  EXPECT_NEAR(std::stod(after[column("mean_ratio")]), 2.0 * std::stod(before[column("mean_ratio")]), 2e-6);
+  EXPECT_EQ(after[column("links")], before[column("links")]);
 }
 
 TEST_F(BenchCommand, WithoutGnuplotWritesTheScriptAndWarnsOnce) {

@@ -356,27 +356,38 @@ TEST(ReferenceCommand, WritesTheImagesAndCompareMeasuresThem) {
   r = test::run_lhr({"compare", ref, ref, "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto doc = nlohmann::json::parse(r.out);
-  EXPECT_EQ(doc["within_10_percent"].get<double>(), 100.0);
-  EXPECT_EQ(doc["within_15_percent"].get<double>(), 100.0);
-  EXPECT_EQ(doc["rmse"].get<double>(), 0.0);
-  EXPECT_TRUE(doc["psnr_db"].is_null());
+  for (const char* key : {"rel_within_10_percent", "rel_within_15_percent", "display_within_10_percent",
+                          "display_within_15_percent"}) {
+    EXPECT_EQ(doc[key].get<double>(), 100.0) << key;
+  }
+  EXPECT_EQ(doc["mean_ratio"].get<double>(), 1.0);
+  EXPECT_EQ(doc["display_rmse"].get<double>(), 0.0);
+  EXPECT_TRUE(doc["display_psnr_db"].is_null());
   // Two seeds differ by their noise; with the scene, background is where the camera misses.
   r = test::run_lhr({"compare", (dir / "other.exr").string(), ref, "--json", "--scene", scene.string(), "--diff",
                      (dir / "diff.png").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   doc = nlohmann::json::parse(r.out);
-  for (const char* key : {"within_10_percent", "within_15_percent"}) {
+  for (const char* key : {"rel_within_10_percent", "rel_within_15_percent", "display_within_10_percent",
+                          "display_within_15_percent"}) {
     EXPECT_GE(doc[key].get<double>(), 0.0) << key;
     EXPECT_LE(doc[key].get<double>(), 100.0) << key;
   }
-  EXPECT_GT(doc["rmse"].get<double>(), 0.0);
+  // Independent samples of the same radiance: no bias beyond their noise.
+  EXPECT_NEAR(doc["mean_ratio"].get<double>(), 1.0, 0.1);
+  EXPECT_GT(doc["display_rmse"].get<double>(), 0.0);
   EXPECT_GT(doc["background_pixels"].get<int>(), 0);
   EXPECT_EQ(doc["pixels"].get<int>() + doc["background_pixels"].get<int>(), 24 * 16);
   EXPECT_TRUE(std::filesystem::exists(dir / "diff.png"));
-  // Text output names the norms.
+  // Text output names the norms, the relative luminance one first as the primary figure.
   r = test::run_lhr({"compare", (dir / "other.exr").string(), ref});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("within 10 %"), std::string::npos) << r.out;
+  const auto primary = r.out.find("primary accuracy figure: linear luminance");
+  const auto secondary = r.out.find("secondary: the paper's display-value norm");
+  EXPECT_NE(primary, std::string::npos) << r.out;
+  EXPECT_NE(secondary, std::string::npos) << r.out;
+  EXPECT_LT(primary, secondary) << r.out;
+  EXPECT_NE(r.out.find("mean ratio"), std::string::npos) << r.out;
 }
 
 TEST(ReferenceCommand, BadInputGivesOneLineNamingTheProblem) {

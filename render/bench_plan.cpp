@@ -265,17 +265,17 @@ std::vector<Chart> bench_charts(const std::string& title, const std::vector<Benc
   // values, which still separates the runs there, are secondary (bottom row).
   const std::vector<ChartPanel> panels{
       {bench_csv_column("rel_within_10"), "luminance within 10 % (primary)",
-       "% of pixels with |Y - Y_ref| <= 10 % of Y_ref", "[*:100]"},
+       "% of pixels with |Y - Y_ref| <= 10 % of Y_ref", "[*:100]", "bottom right", std::nullopt},
       {bench_csv_column("rel_within_15"), "luminance within 15 % (primary)",
-       "% of pixels with |Y - Y_ref| <= 15 % of Y_ref", "[*:100]"},
+       "% of pixels with |Y - Y_ref| <= 15 % of Y_ref", "[*:100]", "bottom right", std::nullopt},
       {bench_csv_column("mean_ratio"), "mean ratio (1 is unbiased)", "mean Y / mean Y_ref", "[*:*]", "top right",
        1.0},
       {bench_csv_column("within_10"), "paper's display norm: within 10 %",
-       "% of pixels within 10 % of the display range", "[*:100]"},
+       "% of pixels within 10 % of the display range", "[*:100]", "bottom right", std::nullopt},
       {bench_csv_column("within_15"), "paper's display norm: within 15 %",
-       "% of pixels within 15 % of the display range", "[*:100]"},
+       "% of pixels within 15 % of the display range", "[*:100]", "bottom right", std::nullopt},
       {bench_csv_column("rmse"), "display RMSE (lower is better)", "RMS difference of the display values", "[0:*]",
-       "top right"}};
+       "top right", std::nullopt}};
   std::vector<Chart> charts;
   const auto add = [&](const std::string& file, const std::string& against, const std::string& column, double divisor,
                        const std::string& x_label, const std::string& x_format, bool with_path) {

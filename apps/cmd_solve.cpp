@@ -105,17 +105,8 @@ int run_solve(const Args& args) {
   install_interrupt_handlers();
   const std::filesystem::path out_dir = vm["out"].as<std::string>();
   const auto t_start = Clock::now();
-  const LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options_from(vm));
-  if (!quiet) {
-    for (const std::string& w : loaded.warnings) std::cerr << "lhr solve: warning: " << w << "\n";
-  }
-  const Scene& scene = loaded.scene;
-  const Camera camera = scene.camera.value_or(framing_camera(scene));
-
   SolveSettings settings;
   settings.method = method == "linear" ? SolveMethod::kLinear : SolveMethod::kClassical;
-  settings.camera = camera;
-  settings.meshing = meshing_options_from(vm, scene);
   ClassicalOptions& classical = settings.classical;
   LinearOptions& linear = settings.linear;
   const double min_edge = vm.count("min-edge") ? vm["min-edge"].as<double>() : 0.0;
@@ -146,6 +137,17 @@ int run_solve(const Args& args) {
   if (max_iterations < 1) throw po::error("--max-iterations must be at least 1");
   if (!(tolerance > 0)) throw po::error("--tolerance must be positive");
   if (visibility_samples < 1) throw po::error("--visibility-samples must be at least 1");
+
+  // Options are checked before the scene is read: a bad flag is the one line
+  // of output, not a scene's warnings and then the flag.
+  const LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options_from(vm));
+  if (!quiet) {
+    for (const std::string& w : loaded.warnings) std::cerr << "lhr solve: warning: " << w << "\n";
+  }
+  const Scene& scene = loaded.scene;
+  const Camera camera = scene.camera.value_or(framing_camera(scene));
+  settings.camera = camera;
+  settings.meshing = meshing_options_from(vm, scene);
 
   // Refuse an unusable output directory before the work, not after.
   std::filesystem::create_directories(out_dir);

@@ -478,11 +478,21 @@ TEST(CornellBox, EveryFaceFrontFacesTheRoom) {
     } else {
       EXPECT_GT(OpenMesh::dot(n, box_centre - c), 0.0) << group;
     }
-    for (const Vec3& q : p) EXPECT_NEAR(OpenMesh::dot(n, q - p[0]), 0.0, 1e-6) << group << " is not planar";
+    // The published left wall is warped: its bottom edge slants, its top
+    // edge does not. Every other polygon is planar.
+    double off_plane = 0.0;
+    for (const Vec3& q : p) off_plane = std::max(off_plane, std::abs(OpenMesh::dot(n, q - p[0])));
+    if (group == "left_wall") {
+      EXPECT_GT(off_plane, 1.0) << "the published left wall is warped";
+    } else {
+      EXPECT_NEAR(off_plane, 0.0, 1e-6) << group << " is not planar";
+    }
   }
 }
 
-TEST(CornellBox, LightHangsJustBelowTheCeilingFacingDown) {
+// As published, the light lies in the ceiling's plane (the loader puts it
+// in front of the ceiling: test_bundled_data).
+TEST(CornellBox, LightLiesInTheCeilingPlaneFacingDown) {
   const PolygonSoup soup = load_polygon_soup(cornell_dir() / "cornell.obj");
   for (const InputFace& f : soup.faces) {
     if (!soup.materials.at(f.material).is_emitter()) continue;
@@ -490,7 +500,7 @@ TEST(CornellBox, LightHangsJustBelowTheCeilingFacingDown) {
     const Vec3 a = area_vector(p);
     EXPECT_NEAR(a.normalized()[1], -1.0, 1e-12);
     EXPECT_NEAR(a.norm(), 130.0 * 105.0, 1e-6);
-    for (const Vec3& q : p) EXPECT_NEAR(q[1], 548.7, 1e-9);
+    for (const Vec3& q : p) EXPECT_NEAR(q[1], 548.8, 1e-9);
     const Material& m = soup.materials.at(f.material);
     EXPECT_EQ(m.emission, Rgb(17, 12, 4));
   }

@@ -6,6 +6,7 @@
 
 #include "mesh/scene.hpp"
 #include "mesh/surfaces.hpp"
+#include "mesh/validate.hpp"
 #include "radiosity/linear_solver.hpp"
 #include "render/gouraud.hpp"
 
@@ -70,6 +71,19 @@ inline Scene emitter_over_receiver(double size, double height, double receiver_r
   const double lo = 0.5 - size / 2, hi = 0.5 + size / 2;
   add_quad(soup, Vec3(lo, lo, height), Vec3(lo, hi, height), Vec3(hi, hi, height), Vec3(hi, lo, height), 1, 1);
   return scene_from_soup(soup, "emitter over receiver");
+}
+
+// A triangle mesh as check_conforming_mesh reads it, with optional per-vertex values.
+inline RawMesh raw_mesh(const TriMesh& mesh, const std::vector<Rgb>& values = {}) {
+  RawMesh raw;
+  for (const auto vh : mesh.vertices()) raw.points.push_back(mesh.point(vh));
+  for (const auto fh : mesh.faces()) {
+    std::vector<int> f;
+    for (const auto vh : mesh.fv_range(fh)) f.push_back(vh.idx());
+    raw.faces.push_back(f);
+  }
+  raw.radiance = values;
+  return raw;
 }
 
 // What the scene camera (or the framing camera) sees, for the linear

@@ -212,15 +212,7 @@ void expect_sphere_solution(const SceneModel& model, const std::vector<std::vect
   const double bound = 10.0 * 0.7 / (1.0 - 0.7);
   for (int s = 0; s < model.num_surfaces(); ++s) {
     const ConformingMesh mesh = model.hierarchy(s).conforming_mesh();
-    RawMesh raw;
-    for (const auto vh : mesh.mesh.vertices()) raw.points.push_back(mesh.mesh.point(vh));
-    for (const auto fh : mesh.mesh.faces()) {
-      std::vector<int> f;
-      for (const auto vh : mesh.mesh.fv_range(fh)) f.push_back(vh.idx());
-      raw.faces.push_back(f);
-    }
-    raw.radiance = values[s];
-    EXPECT_TRUE(check_conforming_mesh(raw).empty()) << method << ": surface " << s;
+    EXPECT_TRUE(check_conforming_mesh(test::raw_mesh(mesh.mesh, values[s])).empty()) << method << ": surface " << s;
     for (const Rgb& v : values[s]) {
       for (int c = 0; c < 3; ++c) {
         ASSERT_TRUE(std::isfinite(v[c])) << method;

@@ -23,18 +23,6 @@
 namespace lhr {
 namespace {
 
-RawMesh to_raw(const TriMesh& mesh, const std::vector<Rgb>& values) {
-  RawMesh raw;
-  for (const auto vh : mesh.vertices()) raw.points.push_back(mesh.point(vh));
-  for (const auto fh : mesh.faces()) {
-    std::vector<int> f;
-    for (const auto vh : mesh.fv_range(fh)) f.push_back(vh.idx());
-    raw.faces.push_back(f);
-  }
-  raw.radiance = values;
-  return raw;
-}
-
 // Every graph's leaves are a cut of its receiver's quadtree whose leaves
 // sharing an edge differ by at most one level, with every leaf corner a
 // graph vertex.
@@ -82,7 +70,7 @@ void expect_invariants(const SceneModel& model, const LinearSolver& solver, int 
     }
     const ConformingMesh mesh = h.conforming_mesh();
     const auto values = solver.vertex_radiance(s, mesh);
-    for (const Violation& v : check_conforming_mesh(to_raw(mesh.mesh, values))) {
+    for (const Violation& v : check_conforming_mesh(test::raw_mesh(mesh.mesh, values))) {
       ADD_FAILURE() << "iteration " << iteration << ", surface " << s << ": " << format_violation(v);
     }
     for (const Rgb& value : solver.vertex_radiance(s)) {

@@ -3,8 +3,9 @@
 // ρ·Ke·F(x) with the exact point-to-polygon form factor) with a wall
 // standing on its edge, and the furnace (Ke/(1−ρ) everywhere), at every
 // vertex including those on edges and in corners, each within the standard
-// error the tracer reports; determinism; `lhr reference --at-vertices`
-// end to end.
+// error the tracer reports; determinism; the per-vertex metrics on
+// constructed inputs; `lhr reference --at-vertices` and `lhr compare` on
+// meshes end to end.
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -20,6 +21,7 @@
 #include "radiosity/form_factor.hpp"
 #include "radiosity/tone_map.hpp"
 #include "render/path_tracer.hpp"
+#include "render/vertex_metrics.hpp"
 #include "render/vertex_reference.hpp"
 #include "scene_fixtures.hpp"
 #include "test_support.hpp"
@@ -214,6 +216,68 @@ TEST(VertexReference, MeshesThatDoNotFitTheSceneAreRefused) {
   EXPECT_THROW(trace_vertex_reference(tracer, isolated, options), std::invalid_argument);
 }
 
+// A mesh of n vertices on a line with the given luminance per vertex (grey).
+RawMesh grey_mesh(const std::vector<double>& values) {
+  RawMesh mesh;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    mesh.points.push_back(Vec3(static_cast<double>(i), 0, 0));
+    mesh.radiance.push_back(Rgb(values[i], values[i], values[i]));
+  }
+  return mesh;
+}
+
+TEST(VertexMetrics, UniformBiasOfFivePercent) {
+  std::vector<double> truth, biased;
+  for (int i = 0; i < 40; ++i) {
+    truth.push_back(0.2 + 0.1 * i);
+    biased.push_back(1.05 * truth.back());
+  }
+  const VertexMetrics m = compare_vertex_radiance(grey_mesh(biased), grey_mesh(truth));
+  EXPECT_EQ(m.vertices, 40u);
+  EXPECT_EQ(m.within_10, 100.0);
+  EXPECT_EQ(m.within_15, 100.0);
+  EXPECT_NEAR(m.p50, 0.05, 1e-12);
+  EXPECT_NEAR(m.p95, 0.05, 1e-12);
+  EXPECT_NEAR(m.max, 0.05, 1e-12);
+  EXPECT_NEAR(m.mean_ratio, 1.05, 1e-12);
+  EXPECT_FALSE(m.has_noise);
+}
+
+TEST(VertexMetrics, DarkVerticesAreJudgedAgainstTheFloor) {
+  // Mean Y_ref = (4·1 + 0)/5 = 0.8, floor 0.008: the black vertex's error
+  // 0.004 counts as 0.5, not infinity; errors 0, 0, 0.12, 0.2, 0.5.
+  RawMesh reference = grey_mesh({1, 1, 1, 1, 0});
+  const RawMesh mesh = grey_mesh({1, 1, 1.12, 0.8, 0.004});
+  reference.radiance_stderr = {0.01, 0.01, 0.01, 0.01, 0.001};
+  const VertexMetrics m = compare_vertex_radiance(mesh, reference);
+  EXPECT_NEAR(m.floor, 0.008, 1e-15);
+  EXPECT_NEAR(m.max, 0.5, 1e-12);
+  EXPECT_EQ(m.worst_vertex, 4u);
+  EXPECT_NEAR(m.p50, 0.12, 1e-12);
+  EXPECT_NEAR(m.p95, 0.2 + 0.8 * 0.3, 1e-12);  // between the 4th and 5th of 5, linearly
+  EXPECT_EQ(m.within_10, 40.0);
+  EXPECT_EQ(m.within_15, 60.0);
+  EXPECT_NEAR(m.mean_ratio, 3.924 / 4.0, 1e-12);
+  ASSERT_TRUE(m.has_noise);
+  EXPECT_EQ(m.beyond_3_sigma, 60.0);  // 0.12, 0.2 and 0.004 exceed 3 standard errors
+  EXPECT_NEAR(m.noise_p50, 0.01, 1e-12);
+}
+
+TEST(VertexMetrics, MismatchedVertexSetsAreAnError) {
+  const RawMesh reference = grey_mesh({1, 2, 3});
+  EXPECT_THROW(compare_vertex_radiance(grey_mesh({1, 2}), reference), std::invalid_argument);
+  RawMesh moved = grey_mesh({1, 2, 3});
+  moved.points[1][1] += 0.01;
+  EXPECT_THROW(compare_vertex_radiance(moved, reference), std::invalid_argument);
+  RawMesh no_radiance = grey_mesh({1, 2, 3});
+  no_radiance.radiance.clear();
+  EXPECT_THROW(compare_vertex_radiance(no_radiance, reference), std::invalid_argument);
+  // Float storage moves nothing by more than the tolerance.
+  RawMesh stored = grey_mesh({1, 2, 3});
+  stored.points[2][0] = static_cast<float>(2.0 + 1e-9);
+  EXPECT_NO_THROW(compare_vertex_radiance(stored, reference));
+}
+
 // The lit floor of tests/test_path_tracer.cpp's tiny scene as OBJ, MTL and
 // scene JSON, and a mesh of it whose radiance is the closed form.
 struct TinyFiles {
@@ -251,7 +315,7 @@ TinyFiles write_tiny_files(const std::filesystem::path& dir) {
   return files;
 }
 
-TEST(VertexReferenceCommand, WritesTheSameFileForAnyThreadCount) {
+TEST(VertexReferenceCommand, WritesTheSameFileForAnyThreadCountAndCompareMeasuresIt) {
   const auto dir = test::fresh_dir("vertex_reference_command");
   const TinyFiles files = write_tiny_files(dir);
   const auto run = [&](const std::string& threads, const std::filesystem::path& out) {
@@ -272,6 +336,25 @@ TEST(VertexReferenceCommand, WritesTheSameFileForAnyThreadCount) {
   ASSERT_EQ(ref.radiance.size(), mesh.points.size());
   ASSERT_EQ(ref.radiance_stderr.size(), mesh.points.size());
 
+  // The mesh holds the closed form, so it differs from the reference by the
+  // reference's noise only.
+  r = test::run_lhr({"compare", files.mesh.string(), (dir / "ref1.ply").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["vertices"].get<int>(), 20);
+  EXPECT_LE(doc["beyond_3_sigma_percent"].get<double>(), 10.0);  // at most 2 of 20 vertices
+  EXPECT_GT(doc["reference_noise_p50"].get<double>(), 0.0);
+  // A reference against itself agrees everywhere.
+  r = test::run_lhr({"compare", (dir / "ref1.ply").string(), (dir / "ref1.ply").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["p50"].get<double>(), 0.0);
+  EXPECT_EQ(doc["max"].get<double>(), 0.0);
+  EXPECT_EQ(doc["within_10_percent"].get<double>(), 100.0);
+  EXPECT_EQ(doc["mean_ratio"].get<double>(), 1.0);
+  r = test::run_lhr({"compare", files.mesh.string(), (dir / "ref1.ply").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("p95"), std::string::npos) << r.out;
 }
 
 TEST(VertexReferenceCommand, BadInputGivesOneLineNamingTheProblem) {
@@ -290,11 +373,24 @@ TEST(VertexReferenceCommand, BadInputGivesOneLineNamingTheProblem) {
   EXPECT_NE(r.err.find("vertex 0"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "ref.ply"));
 
+  // Vertex sets that differ.
+  ASSERT_EQ(test::run_lhr({"reference", files.scene.string(), "--at-vertices", files.mesh.string(), "--out",
+                           (dir / "ref.ply").string(), "--spp", "4", "-q"})
+                .exit_code,
+            0);
+  r = test::run_lhr({"compare", (dir / "other.ply").string(), (dir / "ref.ply").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("other.ply"), std::string::npos) << r.err;
+
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"reference", files.scene.string(), "--at-vertices", files.mesh.string(), "--out",
                                  (dir / "ref.exr").string()},
         std::vector<std::string>{"reference", files.scene.string(), "--at-vertices", files.mesh.string(), "--out",
-                                 (dir / "r.ply").string(), "--jitter"}}) {
+                                 (dir / "r.ply").string(), "--jitter"},
+        std::vector<std::string>{"compare", files.mesh.string(), (dir / "ref.exr").string()},
+        std::vector<std::string>{"compare", files.mesh.string(), (dir / "ref.ply").string(), "--diff",
+                                 (dir / "d.png").string()}}) {
     r = test::run_lhr(args);
     EXPECT_EQ(r.exit_code, 2) << args[0] << " " << args.back();
     EXPECT_EQ(test::count_lines(r.err), 1) << r.err;

@@ -102,16 +102,23 @@ VertexReference trace_vertex_reference(const PathTracer& tracer, const RawMesh& 
   const std::size_t n = mesh.points.size();
   const std::vector<VertexFrame> frames = vertex_frames(mesh);
 
+  // In chunks, so a mesh of another scene fails after one chunk of the
+  // locator's slow fallback rather than all of them, always naming its
+  // first vertex that lies on no surface.
+  constexpr std::size_t kLocateChunk = 4096;
   std::vector<std::optional<SurfaceStart>> starts(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      starts[v] = tracer.surface_start(mesh.points[v], frames[v].normal, frames[v].toward);
-    }
-  });
-  for (std::size_t v = 0; v < n; ++v) {
-    if (!starts[v]) {
-      throw std::invalid_argument("vertex " + std::to_string(v) + " at " + describe_point(mesh.points[v]) +
-                                  " lies on no surface of the scene facing its way (is the mesh of this scene?)");
+  for (std::size_t begin = 0; begin < n; begin += kLocateChunk) {
+    const std::size_t end = std::min(n, begin + kLocateChunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        starts[v] = tracer.surface_start(mesh.points[v], frames[v].normal, frames[v].toward);
+      }
+    });
+    for (std::size_t v = begin; v < end; ++v) {
+      if (!starts[v]) {
+        throw std::invalid_argument("vertex " + std::to_string(v) + " at " + describe_point(mesh.points[v]) +
+                                    " lies on no surface of the scene facing its way (is the mesh of this scene?)");
+      }
     }
   }
 

@@ -197,6 +197,27 @@ TEST(VertexReference, SameValuesWhateverTheThreadCountAndRounds) {
   EXPECT_NE(trace_with(2, options).radiance, one.radiance);
 }
 
+TEST(VertexReference, AVertexJustOutsideItsSurfaceTakesTheNearestPoint) {
+  // The receiver's corner vertex moved 2e-5 beyond both edges (a mesh a
+  // little off its scene, or rounded coordinates): the short ray down its
+  // normal misses the receiver, and the nearest front-facing triangle is
+  // taken instead, where the radiance is the corner's.
+  WalledReceiver setup(2);
+  ASSERT_EQ(setup.mesh.points[0], Vec3(0, 0, 0));
+  setup.mesh.points[0] = Vec3(-2e-5, -2e-5, 0);
+  const PathTracer tracer(setup.scene);
+  PathTraceOptions options;
+  options.spp = 1024;
+  const VertexReference r = trace_vertex_reference(tracer, setup.mesh, options);
+  const auto emitter = WalledReceiver::emitter();
+  const double truth = WalledReceiver::kRho * WalledReceiver::kKe *
+                       point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1),
+                                                 std::span<const Vec3>(emitter.data(), emitter.size()));
+  ASSERT_GT(r.standard_error[0], 0.0);
+  EXPECT_LT(std::abs(luminance(r.radiance[0]) - truth), 4.5 * r.standard_error[0])
+      << luminance(r.radiance[0]) << " against " << truth;
+}
+
 TEST(VertexReference, MeshesThatDoNotFitTheSceneAreRefused) {
   const WalledReceiver setup(2);
   const PathTracer tracer(setup.scene);

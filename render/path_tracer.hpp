@@ -92,8 +92,10 @@ class PathTracer {
   // moved slightly toward `toward` (a point inside the same surface, e.g. a
   // mesh face's centroid): on a crease or in a corner x lies on several
   // surfaces, and its value is the limit from inside its own, so its paths
-  // must not start on or behind the neighbour. nullopt when no
-  // front-facing triangle is within a small multiple of the ray offset.
+  // must not start on or behind the neighbour. A point off every triangle
+  // (a vertex refined across a fold of a curved surface) moves to the
+  // nearest front-facing one. nullopt when none is within 1e-3 of the scene
+  // size.
   std::optional<SurfaceStart> surface_start(const Vec3& x, const Vec3& normal, const Vec3& toward) const;
 
   // One unbiased sample of the radiance leaving start.point toward its

@@ -218,6 +218,39 @@ TEST(VertexReference, AVertexJustOutsideItsSurfaceTakesTheNearestPoint) {
       << luminance(r.radiance[0]) << " against " << truth;
 }
 
+TEST(VertexReference, VerticesOffTheFacetsOfACurvedSurfaceAreFound) {
+  // A receiver warped by w at one corner is a curved surface; the tracer
+  // folds it along one diagonal, while the grid's centre and two edge
+  // midpoints sit flat, w/2 off those facets (as vertices refined across a
+  // fold of a faceted surface do). Their radiance is the receiver's there,
+  // which w barely changes.
+  constexpr double kWarp = 1e-3;
+  PolygonSoup soup;
+  Material receiver, light;
+  receiver.name = "receiver";
+  receiver.reflectance = Rgb(WalledReceiver::kRho, WalledReceiver::kRho, WalledReceiver::kRho);
+  light.name = "light";
+  light.reflectance = Rgb(0, 0, 0);
+  light.emission = Rgb(WalledReceiver::kKe, WalledReceiver::kKe, WalledReceiver::kKe);
+  soup.materials = {receiver, light};
+  soup.groups = {"receiver", "light"};
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, kWarp), Vec3(0, 1, 0), 0, 0);
+  const auto e = WalledReceiver::emitter();
+  test::add_quad(soup, e[0], e[1], e[2], e[3], 1, 1);
+  const Scene scene = test::scene_from_soup(soup, "warped receiver");
+  RawMesh mesh;
+  add_grid(mesh, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2);
+  mesh.points[8] = Vec3(1, 1, kWarp);
+  const PathTracer tracer(scene);
+  PathTraceOptions options;
+  options.spp = 1024;
+  const VertexReference r = trace_vertex_reference(tracer, mesh, options);
+  expect_within_standard_errors(r, {0, 1, 2, 3, 4, 5, 6, 7}, [&](std::size_t v) {
+    return WalledReceiver::kRho * WalledReceiver::kKe *
+           point_polygon_form_factor(mesh.points[v], Vec3(0, 0, 1), std::span<const Vec3>(e.data(), e.size()));
+  });
+}
+
 TEST(VertexReference, MeshesThatDoNotFitTheSceneAreRefused) {
   const WalledReceiver setup(2);
   const PathTracer tracer(setup.scene);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.hpp"
+#include "apps/compare_meshes.hpp"
 #include "apps/options.hpp"
 #include "apps/tone_options.hpp"
 #include "io/image_io.hpp"
@@ -73,11 +74,19 @@ int run_compare(const Args& args) {
                  "through the same tone map, its defaults taken from the reference. On dim\n"
                  "tone-mapped images every method passes this norm, so it cannot rank them.\n\n"
               << visible << "\n";
+    std::cout << kCompareMeshesHelp;
     return kExitOk;
   }
   po::notify(vm);
   const std::filesystem::path image_path = vm["image"].as<std::string>();
   const std::filesystem::path reference_path = vm["reference"].as<std::string>();
+  if (is_mesh_file(image_path) || is_mesh_file(reference_path)) {
+    if (!is_mesh_file(image_path) || !is_mesh_file(reference_path)) {
+      throw po::error("compare two .ply meshes or two images, not one of each");
+    }
+    if (vm.count("diff") || vm.count("scene")) throw po::error("--diff and --scene apply to images, not .ply meshes");
+    return compare_meshes(image_path, reference_path, vm.count("json") > 0);
+  }
   std::optional<std::filesystem::path> diff_path;
   if (vm.count("diff")) {
     diff_path = vm["diff"].as<std::string>();

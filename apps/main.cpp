@@ -20,8 +20,8 @@ constexpr Command kCommands[] = {
     {"mesh", lhr::app::run_mesh, "mesh a scene to a minimum density and write the initial mesh"},
     {"validate", lhr::app::run_validate, "check a PLY/OFF mesh: manifold, oriented, crack-free"},
     {"scene", lhr::app::run_scene, "write one of the paper's generated test scenes"},
-    {"reference", lhr::app::run_reference, "path-trace a reference image of a scene and report its noise"},
-    {"compare", lhr::app::run_compare, "measure an image against a reference (the paper's 10 %/15 % norms)"},
+    {"reference", lhr::app::run_reference, "path-trace a reference image (or a mesh's vertices) and report its noise"},
+    {"compare", lhr::app::run_compare, "measure an image or mesh against a reference (the paper's 10 %/15 % norms)"},
     {"bench", lhr::app::run_bench, "chart image accuracy against links, time and memory for every method"},
 };
 

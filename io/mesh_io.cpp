@@ -33,6 +33,7 @@ namespace {
 // DESIGN §3: the PLY carries linear radiance beside the display colour under
 // these names, so other tools show the colour and lhr can read values back.
 constexpr const char* kRadianceNames[3] = {"radiance_r", "radiance_g", "radiance_b"};
+constexpr const char* kStderrName = "radiance_stderr";
 
 // Points are stored as float in PLY (OpenMesh writes float x y z); OFF is
 // text, and 9 significant digits reproduce a float exactly.
@@ -78,6 +79,10 @@ void check_export(const std::filesystem::path& path, const ExportMesh& mesh) {
   }
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     throw std::runtime_error(path.string() + ": too many vertices for PLY/OFF indices");
+  }
+  if (!mesh.radiance_stderr.empty() && mesh.radiance_stderr.size() != n) {
+    throw std::runtime_error(path.string() + ": " + std::to_string(mesh.radiance_stderr.size()) +
+                             " standard errors for " + std::to_string(n) + " vertices");
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (int v : mesh.triangles[t]) {
@@ -150,6 +155,11 @@ void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
     om.add_property(channel[c], kRadianceNames[c]);
     om.property(channel[c]).set_persistent(true);
   }
+  OpenMesh::VPropHandleT<float> stderr_channel;
+  if (!mesh.radiance_stderr.empty()) {
+    om.add_property(stderr_channel, kStderrName);
+    om.property(stderr_channel).set_persistent(true);
+  }
   om.reserve(mesh.points.size(), 3 * mesh.triangles.size(), mesh.triangles.size());
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
     const auto vh = om.add_vertex(mesh.points[v]);
@@ -157,6 +167,7 @@ void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
     om.set_color(vh, TriMesh::Color(c[0], c[1], c[2]));
     const Rgb r = mesh.radiance.empty() ? Rgb(0.0) : mesh.radiance[v];
     for (int ch = 0; ch < 3; ++ch) om.property(channel[ch], vh) = static_cast<float>(r[ch]);
+    if (!mesh.radiance_stderr.empty()) om.property(stderr_channel, vh) = static_cast<float>(mesh.radiance_stderr[v]);
   }
   {
     const QuietOpenMesh quiet;
@@ -211,6 +222,11 @@ RawMesh read_raw_mesh(const std::filesystem::path& path) {
   bool all = true;
   for (int c = 0; c < 3; ++c) all = read_channel(importer.properties(), kRadianceNames[c], radiance, c) && all;
   if (all) mesh.radiance = std::move(radiance);
+  std::vector<Rgb> standard_error(mesh.points.size(), Rgb(0.0));
+  if (read_channel(importer.properties(), kStderrName, standard_error, 0)) {
+    mesh.radiance_stderr.reserve(standard_error.size());
+    for (const Rgb& e : standard_error) mesh.radiance_stderr.push_back(e[0]);
+  }
   return mesh;
 }
 

@@ -18,13 +18,16 @@ struct ExportMesh {
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<std::uint8_t, 3>> colours;  // per vertex, empty = grey
   std::vector<Rgb> radiance;                         // per vertex, empty = zero
+  // Per vertex: standard error of the luminance of a Monte Carlo estimate
+  // (lhr reference --at-vertices), PLY property radiance_stderr; empty = none.
+  std::vector<double> radiance_stderr;
 };
 
 // Appends a surface's conforming mesh; radiance per mesh vertex may be empty.
 void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rgb>& radiance = {});
 
 // By extension: .ply (binary, x y z, red green blue uchar, radiance_r/g/b
-// float) or .off (COFF). Written atomically. Throws std::runtime_error.
+// float, radiance_stderr float when given) or .off (COFF, colours only). Written atomically. Throws std::runtime_error.
 void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh);
 
 // Reads a PLY/OFF exactly as stored (no vertex merging, no face repair),

@@ -15,6 +15,7 @@ struct RawMesh {
   std::vector<Vec3> points;
   std::vector<std::vector<int>> faces;
   std::vector<Rgb> radiance;  // per vertex when the file has it, else empty
+  std::vector<double> radiance_stderr;  // per vertex when the file has it (a path-traced reference), else empty
 };
 
 struct Violation {

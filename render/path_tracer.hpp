@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "io/image_io.hpp"
@@ -61,6 +62,14 @@ struct ReferenceImage {
   double mean_luminance = 0.0;  // over the masked pixels
 };
 
+// Where paths for the radiance leaving a given surface point start (the
+// per-vertex reference, DESIGN §5 "How accuracy is judged").
+struct SurfaceStart {
+  int triangle = -1;  // the scene triangle the point lies on: its Kd, Ke and normal apply
+  Vec3 point;         // on that triangle
+  Vec3 origin;        // where rays leave: off the plane, toward the surface's inside
+};
+
 class PathTracer {
  public:
   // Triangulates every input polygon of every surface (fan, or ear clipping
@@ -78,6 +87,21 @@ class PathTracer {
 
   // 1 where the ray through the pixel centre hits a surface.
   std::vector<std::uint8_t> coverage(const Camera& camera) const;
+
+  // The scene triangle under x whose front faces along `normal`, with x
+  // moved slightly toward `toward` (a point inside the same surface, e.g. a
+  // mesh face's centroid): on a crease or in a corner x lies on several
+  // surfaces, and its value is the limit from inside its own, so its paths
+  // must not start on or behind the neighbour. A point off every triangle
+  // (a vertex refined across a fold of a curved surface) moves to the
+  // nearest front-facing one. nullopt when none is within 1e-3 of the scene
+  // size.
+  std::optional<SurfaceStart> surface_start(const Vec3& x, const Vec3& normal, const Vec3& toward) const;
+
+  // One unbiased sample of the radiance leaving start.point toward its
+  // front, Le + Kd/π·E, with the machinery of render(); the random numbers
+  // are a function of key alone.
+  Rgb sample_radiance(const SurfaceStart& start, std::uint64_t key) const;
 
   std::size_t triangle_count() const;
   std::size_t emitter_triangle_count() const;

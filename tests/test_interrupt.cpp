@@ -1,4 +1,5 @@
-// An interrupted `lhr solve` or `lhr reference` (SIGINT or SIGTERM mid-run)
+// An interrupted `lhr solve` or `lhr reference`, of an image or at a mesh's
+// vertices (SIGINT or SIGTERM mid-run)
 // exits cleanly with code 130, writes no file, and leaves an existing output
 // untouched.
 
@@ -97,6 +98,28 @@ TEST(Interrupt, SignalMidReferenceExitsCleanlyAndKeepsTheOldImage) {
     }
     EXPECT_EQ(files, std::vector<std::string>{"ref.exr"}) << "no new, partial or temporary file";
   }
+}
+
+TEST(Interrupt, SignalMidVertexReferenceExitsCleanlyAndKeepsTheOldMesh) {
+  const auto dir = test::fresh_dir("interrupt_vertex_reference");
+  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
+  const auto mesh = (dir / "mesh.ply").string();
+  ASSERT_EQ(test::run_lhr({"mesh", scene, "--out", mesh}).exit_code, 0);
+  std::filesystem::create_directories(dir / "out");
+  test::write_text(dir / "out" / "ref.ply", "earlier result");
+  // A million samples per vertex: hours, so the signal lands mid-run.
+  const Interrupted r = interrupt_run(dir,
+                                      {"reference", scene, "--at-vertices", mesh, "--out",
+                                       (dir / "out" / "ref.ply").string(), "--spp", "1000000", "--verbose"},
+                                      "tracing", SIGINT, std::chrono::milliseconds(200));
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_text(dir / "out" / "ref.ply"), "earlier result");
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
+    files.push_back(entry.path().filename().string());
+  }
+  EXPECT_EQ(files, std::vector<std::string>{"ref.ply"}) << "no new, partial or temporary file";
 }
 
 }  // namespace

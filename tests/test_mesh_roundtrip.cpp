@@ -176,6 +176,25 @@ TEST(MeshRoundtrip, OpenMeshReadsColoursAndRadiance) {
   }
 }
 
+TEST(MeshRoundtrip, StandardErrorsRoundTripInPlyOnly) {
+  const auto dir = test::fresh_dir("roundtrip_stderr");
+  ExportMesh m = sample_export();
+  write_mesh(dir / "plain.ply", m);
+  EXPECT_TRUE(read_raw_mesh(dir / "plain.ply").radiance_stderr.empty());
+  m.radiance_stderr = {0, 1e-3, 0.25, 3.5, 1e-7, 42, 0.125};
+  write_mesh(dir / "m.ply", m);
+  EXPECT_NE(ply_header(dir / "m.ply").find("property float radiance_stderr"), std::string::npos);
+  const RawMesh raw = read_raw_mesh(dir / "m.ply");
+  ASSERT_EQ(raw.radiance_stderr.size(), m.points.size());
+  for (std::size_t v = 0; v < m.points.size(); ++v) {
+    EXPECT_EQ(raw.radiance_stderr[v], static_cast<float>(m.radiance_stderr[v])) << "vertex " << v;
+  }
+  write_mesh(dir / "m.off", m);
+  EXPECT_TRUE(read_raw_mesh(dir / "m.off").radiance_stderr.empty());
+  m.radiance_stderr.pop_back();
+  EXPECT_THROW(write_mesh(dir / "short.ply", m), std::runtime_error);
+}
+
 TEST(MeshRoundtrip, MissingColoursAreGreyAndMissingRadianceIsZero) {
   const auto dir = test::fresh_dir("roundtrip_defaults");
   ExportMesh m = sample_export();

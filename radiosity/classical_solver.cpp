@@ -12,6 +12,7 @@
 #include "radiosity/root_clusters.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/tone_map.hpp"
+#include "radiosity/triangle_geometry.hpp"
 
 namespace lhr {
 
@@ -43,13 +44,11 @@ bool some_point_in_front(const Surface& a, const Surface& b, double eps) {
 }  // namespace
 
 ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& options)
-    : model_(model), options_(options) {
+    : model_(model), options_(options), floor_(model, options.min_edge) {
   surfaces_.resize(model_.num_surfaces());
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     max_emitted_ = std::max(max_emitted_, luminance(model_.material(s).emission));
   }
-  const double min_edge = options_.min_edge > 0 ? options_.min_edge : model_.max_edge() / 32.0;
-  min_area_ = std::sqrt(3.0) / 4.0 * min_edge * min_edge;
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     sync_node_arrays(s);
     build_clusters(s, root_exposure(model_, s));
@@ -261,18 +260,32 @@ double ClassicalSolver::estimate_form_factor(const Element& receiver, const Elem
   // from the receiver's centre, A cosθi cosθj / (π r² + A).
   const Vec3 ci = model_.centroid(receiver.surface, receiver.node);
   const Vec3 cj = is_cluster(shooter) ? cluster(shooter).centroid : model_.centroid(shooter.surface, shooter.node);
-  const Vec3 d = cj - ci;
-  const double r2 = d.sqrnorm();
-  const double r = std::sqrt(r2);
-  if (!(r > 0)) return 1.0;
-  const double cos_i = std::max(0.0, OpenMesh::dot(model_.normal(receiver.surface, receiver.node), d) / r);
+  const Vec3 ni = model_.normal(receiver.surface, receiver.node);
   const Vec3 nj = is_cluster(shooter) ? cluster(shooter).normal : model_.normal(shooter.surface, shooter.node);
-  const double cos_j = std::max(0.0, -OpenMesh::dot(nj, d) / r);
   const double a = element_area(shooter);
+  const auto disc = [&](const Vec3& x, double& cos_i, double& cos_j) {
+    const Vec3 d = cj - x;
+    const double r2 = d.sqrnorm();
+    const double r = std::sqrt(r2);
+    cos_i = r > 0 ? std::max(0.0, OpenMesh::dot(ni, d) / r) : 0.0;
+    cos_j = r > 0 ? std::max(0.0, -OpenMesh::dot(nj, d) / r) : 0.0;
+    return a / (M_PI * r2 + a);
+  };
+  double cos_i = 0.0, cos_j = 0.0;
+  if (!((cj - ci).sqrnorm() > 0)) return 1.0;
+  const double bound = disc(ci, cos_i, cos_j);
   // Near-contact elements (one's centre at the other's horizon) keep a
   // bound that does not vanish: use the unclipped cosines' magnitudes.
-  const double bound = a / (M_PI * r2 + a);
-  return std::max(bound * cos_i * cos_j, (cos_i == 0.0 || cos_j == 0.0) ? 0.5 * bound : 0.0);
+  double estimate = std::max(bound * cos_i * cos_j, (cos_i == 0.0 || cos_j == 0.0) ? 0.5 * bound : 0.0);
+  // The centre misses a shooter that is smaller than the receiver and close
+  // to it: a small light just above a large element puts all its power into
+  // a spot away from the centre (DESIGN §5, small lights). The disc seen from the
+  // receiver's point nearest the shooter's centre catches it; it adds
+  // nothing where that point is on the shooter's horizon (elements in
+  // contact, already covered above).
+  if (!(a < model_.area(receiver.surface, receiver.node))) return estimate;
+  const double near = disc(closest_point(cj, model_.triangle(receiver.surface, receiver.node)), cos_i, cos_j);
+  return std::max(estimate, near * cos_i * cos_j);
 }
 
 bool ClassicalSolver::refine_links() {
@@ -300,8 +313,9 @@ bool ClassicalSolver::refine_links() {
   std::vector<PendingLink> pending;
   bool changed = false;
 
-  const auto splittable = [&](const Element& e) {
-    return is_cluster(e) || model_.area(e.surface, e.node) > 4.0 * min_area_;
+  // The floor depends on the other end of the link (radiosity/element_floor.hpp).
+  const auto splittable = [&](const Element& e, int partner) {
+    return is_cluster(e) || floor_.allows_split(model_.area(e.surface, e.node), partner);
   };
   const auto split_node = [&](const Element& e) {
     SurfaceHierarchy& h = model_.hierarchy(e.surface);
@@ -350,7 +364,8 @@ bool ClassicalSolver::refine_links() {
           continue;
         }
         const double transfer = luminance(element_radiance(link.shooter)) * link.oracle;
-        const bool can_receiver = splittable(receiver), can_shooter = splittable(link.shooter);
+        const bool can_receiver = splittable(receiver, link.shooter.surface);
+        const bool can_shooter = splittable(link.shooter, s);
         if (!(transfer > threshold) || (!can_receiver && !can_shooter)) {
           kept.push_back(link);
           continue;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "radiosity/element_floor.hpp"
 #include "radiosity/scene_model.hpp"
 
 namespace lhr {
@@ -33,7 +34,7 @@ struct ClassicalOptions {
   // eps_bf times the brightest emitted luminance.
   double eps_bf = 1e-3;
   // Elements whose edges are shorter than this (scene units) are not split;
-  // 0 = h/32.
+  // 0 = h/32, less toward surfaces smaller than that (radiosity/element_floor.hpp).
   double min_edge = 0.0;
   int max_iterations = 100;
   // Stop when no link was refined and no leaf radiance changed by more than
@@ -146,7 +147,7 @@ class ClassicalSolver {
   ClassicalOptions options_;
   std::vector<SurfaceState> surfaces_;
   double max_emitted_ = 0.0;
-  double min_area_ = 0.0;
+  ElementFloor floor_;
   ClassicalStats stats_;
 };
 

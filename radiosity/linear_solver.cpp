@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "radiosity/form_factor.hpp"
 #include "radiosity/receiver_oracle.hpp"
 #include "radiosity/sampling.hpp"
 
@@ -25,6 +26,10 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Receiver refinement in object space: a graph edge is split when the power
+// linear interpolation misplaces across it reaches this fraction of the
+// emitted power (refine_receivers).
+constexpr double kPowerTolerance = 1e-4;
 // Shooter-oracle passes per iteration: each pass opens links one level deeper.
 constexpr int kMaxShooterPasses = 24;
 // Without a camera every surface is seen face-on, this many pixels in all,
@@ -54,7 +59,8 @@ double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }
 
 }  // namespace
 
-LinearSolver::LinearSolver(SceneModel& model, LinearOptions options) : model_(model), options_(std::move(options)) {
+LinearSolver::LinearSolver(SceneModel& model, LinearOptions options)
+    : model_(model), options_(std::move(options)), floor_(model, options_.min_edge) {
   if (!options_.tone_map) {
     options_.tone_map = [](double adaptation, double) {
       TumblinRushmeierParams p;
@@ -62,8 +68,6 @@ LinearSolver::LinearSolver(SceneModel& model, LinearOptions options) : model_(mo
       return std::make_unique<TumblinRushmeierToneMap>(p);
     };
   }
-  const double min_edge = options_.min_edge > 0 ? options_.min_edge : model_.max_edge() / 32.0;
-  min_area_ = std::sqrt(3.0) / 4.0 * min_edge * min_edge;
   surfaces_.resize(model_.num_surfaces());
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     const Material& m = model_.material(s);
@@ -116,9 +120,9 @@ void LinearSolver::sync_vertices(int s) {
   }
 }
 
-bool LinearSolver::splittable(int s, NodeId e) const {
+bool LinearSolver::splittable(int s, NodeId e, int partner) const {
   if (is_cluster_element(e)) return true;
-  return model_.hierarchy(s).level(e) < SurfaceHierarchy::kMaxLevel && model_.area(s, e) > 4.0 * min_area_;
+  return model_.hierarchy(s).level(e) < SurfaceHierarchy::kMaxLevel && floor_.allows_split(model_.area(s, e), partner);
 }
 
 std::vector<NodeId> LinearSolver::children(int s, NodeId e) {
@@ -561,7 +565,7 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
         continue;
       }
       const GraphLink link = g.links(p.vertex)[p.slot];
-      if (!splittable(s, link.shooter)) continue;
+      if (!splittable(s, link.shooter, g.receiver_surface())) continue;
       const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
       double largest = 0.0;
       for (int l = 0; l < 3; ++l) {
@@ -613,8 +617,38 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
       return unoccluded > 0 ? visible / unoccluded : 0.0;
     };
     const ReceiverOracle oracle(tone, options_.vis_threshold);
+    // A shooter smaller than a receiver leaf can light a spot inside it that
+    // none of its vertices sees (a small light close to R, between
+    // vertices): S's contribution is then zero at all of them, and so is
+    // every difference the edge tests below look at. What S sends into the
+    // leaf, taken as from a point source at S's centre, must then agree
+    // with the interpolant's power to kPowerTolerance of the emitted power.
+    // (A curved S has no one normal to shoot along: left to the edge tests.)
+    const int s = g.shooter_surface();
+    const double shooter_area = model_.surface_area(s);
+    Rgb reflected_exitance = surfaces_[s].cluster_radiance[0];
+    for (int k = 0; k < 3; ++k) reflected_exitance[k] *= rho[k];
+    const double shooter_power = shooter_area * luminance(reflected_exitance);
+    Vec3 shooter_centre(0, 0, 0);
+    if (shooter_area > 0) {
+      for (std::size_t f = 0; f < model_.hierarchy(s).num_roots(); ++f) {
+        shooter_centre += model_.area(s, static_cast<NodeId>(f)) * model_.centroid(s, static_cast<NodeId>(f));
+      }
+      shooter_centre /= shooter_area;
+    }
+    const Vec3& shooter_normal = model_.scene().surfaces[s].normal;
+    const auto misses_small_shooter = [&](NodeId leaf) {
+      const double area = model_.area(r, leaf);
+      if (!model_.scene().surfaces[s].planar || !(area > shooter_area) || !(shooter_power > 0)) return false;
+      const double sent =
+          shooter_power * point_triangle_form_factor(shooter_centre, shooter_normal, model_.triangle(r, leaf));
+      double interpolated = 0.0;
+      for (VertexId v : h.corners(leaf)) interpolated += area / 3.0 * own(g.index_of(v));
+      return M_PI * std::abs(sent - interpolated) >= kPowerTolerance * total_emitted_power_;
+    };
     std::vector<NodeId> to_split;
     for (NodeId leaf : g.leaves()) {
+      if (misses_small_shooter(leaf) && splittable(r, leaf, s)) to_split.push_back(leaf);
       const auto& c = h.corners(leaf);
       for (int k = 0; k < 3; ++k) {
         if (h.is_boundary_edge(leaf, k)) continue;
@@ -626,9 +660,6 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
         if (same_level == kNoNode) continue;
         const NodeId across = g.leaf_containing(same_level, h);
         if (across == kNoNode || (across == same_level && h.level(across) == h.level(leaf) && across < leaf)) continue;
-        // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
-        const double pixels = node_importance(r, leaf) + node_importance(r, across);
-        if (pixels < options_.eps_pixel) continue;
         const VertexId v1 = c[k], v2 = c[(k + 1) % 3], v3 = c[(k + 2) % 3];
         // Vertex 4: the corner of the leaf across farthest from the edge's line.
         const Vec3 p1 = h.point(v1), along = h.point(v2) - p1;
@@ -642,6 +673,21 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
           }
         }
         const std::array<int, 4> idx{g.index_of(v1), g.index_of(v2), g.index_of(v3), g.index_of(v4)};
+        // S's reflected power that linear interpolation misplaces across the
+        // edge: half the second difference of its contribution, over both
+        // triangles. It must be small against the emitted power whatever the
+        // camera sees or the tone map shows (DESIGN §5: the exported mesh is
+        // the product). A small light close to R puts a peak narrower than
+        // an element on one vertex, and the interpolant spreads that
+        // vertex's value over its hat function: up to 2000 times the light's
+        // power on a sub-pixel spot that the image-space test never splits
+        // (DESIGN §5, small lights; tests/test_small_lights.cpp).
+        const double misplaced = 0.5 * std::abs(own(idx[0]) + own(idx[1]) - own(idx[2]) - own(idx[3])) *
+                                 (model_.area(r, leaf) + model_.area(r, across));
+        const bool by_power = M_PI * misplaced >= kPowerTolerance * total_emitted_power_;
+        // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
+        const double pixels = node_importance(r, leaf) + node_importance(r, across);
+        if (!by_power && pixels < options_.eps_pixel) continue;
         EdgeValues edge;
         for (int i = 0; i < 4; ++i) {
           edge.own[i] = own(idx[i]);
@@ -649,9 +695,8 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
         }
         edge.visibility_1 = visibility(idx[0]);
         edge.visibility_2 = visibility(idx[1]);
-        const double error = oracle.display_error(edge);
-        if (!ReceiverOracle::refines(error, pixels, options_.eps_pixel)) continue;
-        if (!splittable(r, leaf) || !splittable(r, across)) continue;
+        if (!by_power && !ReceiverOracle::refines(oracle.display_error(edge), pixels, options_.eps_pixel)) continue;
+        if (!splittable(r, leaf, g.shooter_surface()) || !splittable(r, across, g.shooter_surface())) continue;
         to_split.push_back(leaf);
         to_split.push_back(across);
       }

@@ -19,6 +19,7 @@
 #include <memory>
 #include <vector>
 
+#include "radiosity/element_floor.hpp"
 #include "radiosity/interaction_graph.hpp"
 #include "radiosity/root_clusters.hpp"
 #include "radiosity/scene_model.hpp"
@@ -47,7 +48,7 @@ struct LinearOptions {
   // then uses the conservative max − min.
   double vis_threshold = 0.1;
   // Elements whose edges are shorter than this (scene units) are not split;
-  // 0 = h/32.
+  // 0 = h/32, less toward surfaces smaller than that (radiosity/element_floor.hpp).
   double min_edge = 0.0;
   int max_iterations = 50;
   // Stop when nothing was refined or linked and no vertex changed by more
@@ -173,7 +174,8 @@ class LinearSolver {
   void seed_vertices(int graph, const std::vector<InteractionGraph::NewVertex>& created,
                      std::vector<PendingLink>& pending);
   Rgb shooter_value(int s, NodeId element, int l) const;
-  bool splittable(int s, NodeId element) const;
+  // The floor depends on the other end of the interaction (ElementFloor).
+  bool splittable(int s, NodeId element, int partner) const;
   std::vector<NodeId> children(int s, NodeId element);
   std::size_t count_links() const;
   void collect_stats();
@@ -189,7 +191,7 @@ class LinearSolver {
   std::vector<std::vector<double>> graph_importance_;
   double max_emitted_ = 0.0;
   double total_emitted_power_ = 0.0;
-  double min_area_ = 0.0;
+  ElementFloor floor_;
   double adaptation_ = 1.0;  // log-average luminance the camera sees
   double brightest_ = 1.0;
   std::size_t links_now_ = 0;

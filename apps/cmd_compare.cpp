@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -167,13 +168,16 @@ int run_compare(const Args& args) {
     s << "tone map          " << tone_map->describe() << "\n";
     if (vm.count("surfaces")) {
       s << "\nper surface: mean linear radiance, image / reference (pixels where the camera sees it)\n";
-      s << std::left << std::setw(24) << "surface" << std::right << std::setw(8) << "pixels" << std::setw(11)
+      std::size_t name_width = 24;
+      for (const std::string& name : surface_names) name_width = std::max(name_width, name.size() + 2);
+      const int width = static_cast<int>(name_width);
+      s << std::left << std::setw(width) << "surface" << std::right << std::setw(8) << "pixels" << std::setw(11)
         << "luminance" << std::setw(9) << "red" << std::setw(9) << "green" << std::setw(9) << "blue" << "\n";
       for (std::size_t i = 0; i < surfaces.size(); ++i) {
         const SurfaceComparison& c = surfaces[i];
         if (c.pixels == 0) continue;
         const Rgb ratio = c.ratio();
-        s << std::left << std::setw(24) << surface_names[i] << std::right << std::setw(8) << c.pixels
+        s << std::left << std::setw(width) << surface_names[i] << std::right << std::setw(8) << c.pixels
           << std::setprecision(4) << std::setw(11) << c.luminance_ratio() << std::setw(9) << ratio[0] << std::setw(9)
           << ratio[1] << std::setw(9) << ratio[2] << "\n";
       }

@@ -1,6 +1,7 @@
 #include "radiosity/shooter_spread.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace lhr {

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -17,6 +18,7 @@
 #include "io/scene_loader.hpp"
 #include "render/image_metrics.hpp"
 #include "render/path_tracer.hpp"
+#include "render/surface_comparison.hpp"
 
 namespace lhr::app {
 
@@ -47,7 +49,9 @@ int run_compare(const Args& args) {
        "than 15 % too dark")
       ("scene", po::value<std::string>(),
        "the scene both images show: its tone-map block applies, and background is where the camera's "
-       "pixel-centre ray misses (default: where the reference is exactly 0)");
+       "pixel-centre ray misses (default: where the reference is exactly 0)")
+      ("surfaces", "with --scene: also the mean linear radiance of each surface over the pixels where the camera "
+       "sees it, image against reference (a regional bias shows as a ratio away from 1)");
   add_tone_map_options(visible);
   po::options_description all;
   all.add(visible);
@@ -58,7 +62,7 @@ int run_compare(const Args& args) {
   po::variables_map vm;
   po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
-    std::cout << "usage: lhr compare IMAGE.exr REFERENCE.exr [--json] [--diff DIFF.png] [--scene SCENE]\n\n"
+    std::cout << "usage: lhr compare IMAGE.exr REFERENCE.exr [--json] [--diff DIFF.png] [--scene SCENE [--surfaces]]\n\n"
                  "Measures how close IMAGE is to REFERENCE (both linear radiance, e.g. from lhr solve\n"
                  "and lhr reference; the reference should be a converged path tracing), over the\n"
                  "non-background pixels.\n\n"
@@ -103,9 +107,12 @@ int run_compare(const Args& args) {
                                      std::to_string(reference.width) + "x" + std::to_string(reference.height));
   }
 
+  if (vm.count("surfaces") && !vm.count("scene")) throw po::error("--surfaces needs --scene");
   std::vector<std::uint8_t> mask;
   ToneMapChoice tone;
   std::string background;
+  std::vector<std::string> surface_names;
+  std::vector<SurfaceComparison> surfaces;
   if (vm.count("scene")) {
     const std::filesystem::path scene_path = vm["scene"].as<std::string>();
     const Scene scene = load_scene(scene_path).scene;
@@ -116,7 +123,13 @@ int run_compare(const Args& args) {
                                        std::to_string(reference.width) + "x" + std::to_string(reference.height));
     }
     tone = tone_choice_from(vm, &scene.settings.tone_map);
-    mask = PathTracer(scene).coverage(camera);
+    const PathTracer tracer(scene);
+    mask = tracer.coverage(camera);
+    if (vm.count("surfaces")) {
+      for (const Surface& surface : scene.surfaces) surface_names.push_back(surface.name);
+      surfaces = compare_surfaces(image, reference, tracer.pixel_surfaces(camera),
+                                  static_cast<int>(scene.surfaces.size()));
+    }
     background = "camera rays that miss the scene";
   } else {
     tone = tone_choice_from(vm, nullptr);
@@ -151,6 +164,19 @@ int run_compare(const Args& args) {
     doc["display_max_difference"] = m.max_difference;
     doc["relative_error"] = finite_or_null(m.relative_error);
     doc["tone_map"] = tone_map->describe();
+    if (vm.count("surfaces")) {
+      doc["surfaces"] = nlohmann::json::array();
+      for (std::size_t i = 0; i < surfaces.size(); ++i) {
+        const SurfaceComparison& c = surfaces[i];
+        const Rgb ratio = c.ratio();
+        doc["surfaces"].push_back({{"name", surface_names[i]},
+                                   {"pixels", c.pixels},
+                                   {"image", {c.image[0], c.image[1], c.image[2]}},
+                                   {"reference", {c.reference[0], c.reference[1], c.reference[2]}},
+                                   {"ratio", {ratio[0], ratio[1], ratio[2]}},
+                                   {"luminance_ratio", c.luminance_ratio()}});
+      }
+    }
     std::cout << doc.dump(2) << "\n";
   } else {
     std::ostringstream s;
@@ -169,6 +195,22 @@ int run_compare(const Args& args) {
     s << std::setprecision(4) << "  max difference  " << m.max_difference << "\n";
     s << "relative error    " << m.relative_error << " (linear radiance, sum |a-b| / sum |b|)\n";
     s << "tone map          " << tone_map->describe() << "\n";
+    if (vm.count("surfaces")) {
+      s << "\nper surface: mean linear radiance, image / reference (pixels where the camera sees it)\n";
+      std::size_t name_width = 24;
+      for (const std::string& name : surface_names) name_width = std::max(name_width, name.size() + 2);
+      const int width = static_cast<int>(name_width);
+      s << std::left << std::setw(width) << "surface" << std::right << std::setw(8) << "pixels" << std::setw(11)
+        << "luminance" << std::setw(9) << "red" << std::setw(9) << "green" << std::setw(9) << "blue" << "\n";
+      for (std::size_t i = 0; i < surfaces.size(); ++i) {
+        const SurfaceComparison& c = surfaces[i];
+        if (c.pixels == 0) continue;
+        const Rgb ratio = c.ratio();
+        s << std::left << std::setw(width) << surface_names[i] << std::right << std::setw(8) << c.pixels
+          << std::setprecision(4) << std::setw(11) << c.luminance_ratio() << std::setw(9) << ratio[0] << std::setw(9)
+          << ratio[1] << std::setw(9) << ratio[2] << "\n";
+      }
+    }
     std::cout << s.str();
   }
   return kExitOk;

@@ -47,14 +47,15 @@ int run_solve(const Args& args) {
        "linear: split a receiver edge when its display error times the pixels it covers reaches this (paper 4.1)")
       ("eps-link", po::value<double>()->default_value(LinearOptions{}.eps_link),
        "linear: refine a link when its reflected contribution, relative to the adaptation luminance, times the "
-       "pixels of the receiving node reaches this (paper 4.2)")
+       "pixels of the receiving node reaches this (paper 4.2), or when the error of its shooter element's values, "
+       "summed over the pixels of every node linked to that element, does")
       ("vis-threshold", po::value<double>()->default_value(LinearOptions{}.vis_threshold, "0.1"),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
       ("link-power", po::value<double>()->default_value(LinearOptions{}.link_power, "1e-4"),
        "linear: a surface starts shooting once its power reaches this fraction of the emitted power")
       ("eps-bf", po::value<double>()->default_value(ClassicalOptions{}.eps_bf),
-       "classical: refine a link while shooter radiance x form factor exceeds this fraction of the brightest "
-       "emitted radiance")
+       "classical: refine a link while shooter radiance x form factor, or the spread of the shooter's leaves "
+       "about its value x form factor, exceeds this fraction of the brightest emitted radiance")
       ("min-edge", po::value<double>(), "smallest element edge (default h/32)")
       ("max-iterations", po::value<int>(), "iteration limit (default: linear 50, classical 100)")
       ("tolerance", po::value<double>(),

@@ -11,6 +11,7 @@
 #include "radiosity/form_factor.hpp"
 #include "radiosity/root_clusters.hpp"
 #include "radiosity/sampling.hpp"
+#include "radiosity/shooter_spread.hpp"
 #include "radiosity/tone_map.hpp"
 #include "radiosity/triangle_geometry.hpp"
 
@@ -51,7 +52,8 @@ ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& opti
   }
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     sync_node_arrays(s);
-    build_clusters(s, root_exposure(model_, s));
+    surfaces_[s].root_exposure = root_exposure(model_, s);
+    build_clusters(s, surfaces_[s].root_exposure);
   }
 }
 
@@ -119,6 +121,24 @@ void ClassicalSolver::sync_node_arrays(int s) {
 
 const Rgb& ClassicalSolver::element_radiance(const Element& e) const {
   return is_cluster(e) ? cluster(e).radiance : surfaces_[e.surface].radiance[e.node];
+}
+
+void ClassicalSolver::update_spread(int s) {
+  SurfaceState& st = surfaces_[s];
+  st.node_spread = constant_node_spread(model_.hierarchy(s), st.radiance);
+  std::vector<Rgb> value;
+  for (const RootCluster& c : st.clusters) value.push_back(c.radiance);
+  st.cluster_spread = cluster_spread(st.clusters, value, st.root_exposure, st.node_spread,
+                                     [&](NodeId root) { return std::array<Rgb, 1>{st.radiance[root]}; });
+}
+
+Rgb ClassicalSolver::element_spread(const Element& e) const {
+  const SurfaceState& st = surfaces_[e.surface];
+  if (is_cluster(e)) {
+    const std::size_t c = static_cast<std::size_t>(-(e.node + 2));
+    return c < st.cluster_spread.size() ? st.cluster_spread[c] : Rgb(0, 0, 0);
+  }
+  return static_cast<std::size_t>(e.node) < st.node_spread.size() ? st.node_spread[e.node] : Rgb(0, 0, 0);
 }
 
 double ClassicalSolver::element_area(const Element& e) const {
@@ -363,7 +383,10 @@ bool ClassicalSolver::refine_links() {
           kept.push_back(link);
           continue;
         }
-        const double transfer = luminance(element_radiance(link.shooter)) * link.oracle;
+        // Hanrahan's BF, and the error of the shooter's one value for what
+        // this receiver sees of it (shooter_spread.hpp): F times its spread.
+        const double transfer =
+            std::max(luminance(element_radiance(link.shooter)), luminance(element_spread(link.shooter))) * link.oracle;
         const bool can_receiver = splittable(receiver, link.shooter.surface);
         const bool can_shooter = splittable(link.shooter, s);
         if (!(transfer > threshold) || (!can_receiver && !can_shooter)) {
@@ -455,6 +478,7 @@ double ClassicalSolver::push_pull() {
       c.radiance = m.emission;
       if (c.exposed_area > 0) c.radiance += reflected / c.exposed_area;
     }
+    update_spread(s);
   });
   stats_.seconds_push_pull += seconds_since(start);
   return *std::max_element(change.begin(), change.end());
@@ -489,7 +513,9 @@ void ClassicalSolver::collect_memory_stats() {
     stats_.leaves += h.num_leaves();
     stats_.bytes_geometry += h.geometry_bytes();
     stats_.bytes_hierarchy += h.hierarchy_bytes();
-    stats_.bytes_values += (st.radiance.capacity() + st.gathered.capacity()) * sizeof(Rgb) +
+    stats_.bytes_values += (st.radiance.capacity() + st.gathered.capacity() + st.node_spread.capacity() +
+                            st.cluster_spread.capacity()) *
+                               sizeof(Rgb) +
                            st.links.capacity() * sizeof(std::vector<Link>) +
                            st.clusters.capacity() * sizeof(RootCluster);
     for (const RootCluster& c : st.clusters) stats_.bytes_values += c.roots.capacity() * sizeof(NodeId);

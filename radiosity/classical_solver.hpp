@@ -30,8 +30,10 @@
 namespace lhr {
 
 struct ClassicalOptions {
-  // A link from shooter j to receiver i is refined while L_j·F_ij exceeds
-  // eps_bf times the brightest emitted luminance.
+  // A link from shooter j to receiver i is refined while L_j·F_ij, or the
+  // spread of j's leaves about L_j times F_ij (how far L_j may be from what
+  // i sees of j, shooter_spread.hpp), exceeds eps_bf times the brightest
+  // emitted luminance.
   double eps_bf = 1e-3;
   // Elements whose edges are shorter than this (scene units) are not split;
   // 0 = h/32, less toward surfaces smaller than that (radiosity/element_floor.hpp).
@@ -118,6 +120,11 @@ class ClassicalSolver {
     std::vector<Rgb> gathered;  // per node
     std::vector<std::vector<Link>> links;  // per node: links this node receives
     std::vector<RootCluster> clusters;  // [0] = the whole surface
+    // How far each node's and each cluster's one value is from the leaves it
+    // stands for (shooter_spread.hpp).
+    std::vector<Rgb> node_spread;
+    std::vector<Rgb> cluster_spread;
+    std::vector<double> root_exposure;  // per root, root_exposure()
   };
   struct PendingLink {
     Element receiver;
@@ -138,6 +145,8 @@ class ClassicalSolver {
   static bool is_cluster(const Element& e) { return e.node <= kSurfaceElement; }
   const RootCluster& cluster(const Element& e) const { return surfaces_[e.surface].clusters[-(e.node + 2)]; }
   const Rgb& element_radiance(const Element& e) const;
+  void update_spread(int s);
+  Rgb element_spread(const Element& e) const;
   double element_area(const Element& e) const;
   std::vector<Link>& links_of(const Element& e);
   std::size_t count_links() const;

@@ -8,10 +8,12 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "radiosity/form_factor.hpp"
 #include "radiosity/receiver_oracle.hpp"
 #include "radiosity/sampling.hpp"
+#include "radiosity/shooter_spread.hpp"
 
 namespace lhr {
 
@@ -56,6 +58,10 @@ std::array<double, 3> barycentric(const Vec3& p, const std::array<Vec3, 3>& t) {
 }
 
 double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }
+
+std::uint64_t element_key(int graph, NodeId element) {
+  return (static_cast<std::uint64_t>(graph) << 32) | static_cast<std::uint32_t>(element);
+}
 
 }  // namespace
 
@@ -149,6 +155,62 @@ Rgb LinearSolver::shooter_value(int s, NodeId e, int l) const {
   const SurfaceState& st = surfaces_[s];
   if (is_cluster_element(e)) return l == 0 ? st.cluster_radiance[cluster_index(e)] : Rgb(0, 0, 0);
   return st.radiance[model_.hierarchy(s).corners(e)[l]];
+}
+
+void LinearSolver::update_spread() {
+  // A pull of its own: how far each element's values are from the leaves below.
+  const auto start = Clock::now();
+  tbb::parallel_for(0, model_.num_surfaces(), [&](int s) {
+    SurfaceState& st = surfaces_[s];
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    st.node_spread = linear_node_spread(h, st.radiance);
+    st.cluster_spread = cluster_spread(st.clusters, st.cluster_radiance, st.root_exposure, st.node_spread,
+                                       [&](NodeId root) {
+                                         const auto& k = h.corners(root);
+                                         return std::array<Rgb, 3>{st.radiance[k[0]], st.radiance[k[1]],
+                                                                   st.radiance[k[2]]};
+                                       });
+  });
+  stats_.seconds_push_pull += seconds_since(start);
+}
+
+double LinearSolver::representation_error(int s, const GraphLink& link, const Rgb& rho) const {
+  // DESIGN §4, shooter oracle: the paper's test weighs what a link carries,
+  // not how wrong its shooter's values may be for this receiver; the link's
+  // transfer is off by at most its form factor times the element's spread
+  // (a whole floor's mean for a block face that sees only the floor's dark
+  // front; a coarse triangle's corners across a shadow inside it).
+  const SurfaceState& st = surfaces_[s];
+  const bool cluster = is_cluster_element(link.shooter);
+  const std::vector<Rgb>& spreads = cluster ? st.cluster_spread : st.node_spread;
+  const std::size_t index = cluster ? static_cast<std::size_t>(cluster_index(link.shooter))
+                                    : static_cast<std::size_t>(link.shooter);
+  if (index >= spreads.size()) return 0.0;
+  Rgb error = static_cast<double>(link.coefficients.visible()) * spreads[index];
+  for (int c = 0; c < 3; ++c) error[c] *= rho[c];
+  return luminance(error);
+}
+
+std::unordered_map<std::uint64_t, double> LinearSolver::shared_representation_error(
+    const std::vector<PendingLink>& links) const {
+  // An element's representation error is not a receiver's own: every node
+  // linked to it in a graph inherits it (receiver splits seed new nodes with
+  // their neighbours' links), so a whole floor's mean shown on a whole wall
+  // is one error over all the wall's pixels, though each node alone covers
+  // too few to matter. Its image cost is the sum over those nodes.
+  std::unordered_map<std::uint64_t, double> shared;
+  for (const PendingLink& p : links) {
+    const InteractionGraph& g = graphs_[p.graph];
+    const GraphLink& link = g.links(p.vertex)[p.slot];
+    double& sum = shared[element_key(p.graph, link.shooter)];
+    if (static_cast<std::size_t>(p.graph) >= graph_importance_.size() ||
+        static_cast<std::size_t>(p.vertex) >= graph_importance_[p.graph].size()) {
+      continue;
+    }
+    const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+    sum += representation_error(g.shooter_surface(), link, rho) * graph_importance_[p.graph][p.vertex];
+  }
+  return shared;
 }
 
 bool LinearSolver::link_new_shooters() {
@@ -557,6 +619,7 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
   for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
     if (options_.checkpoint) options_.checkpoint();
     std::vector<PendingLink> created;
+    const auto shared = shared_representation_error(candidates);
     for (const PendingLink& p : candidates) {
       InteractionGraph& g = graphs_[p.graph];
       const int s = g.shooter_surface();
@@ -573,7 +636,12 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
         for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
         largest = std::max(largest, luminance(transfer));
       }
-      if (!(largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link)) continue;
+      // Or the element's own representation is off, over every node sharing it.
+      const double shared_error = shared.at(element_key(p.graph, link.shooter));
+      if (!(largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link) &&
+          !(shared_error / adaptation_ > options_.eps_link)) {
+        continue;
+      }
       if (over_budget(3)) continue;
       const std::vector<NodeId> kids = children(s, link.shooter);
       std::vector<GraphLink>& links = g.links(p.vertex);
@@ -786,6 +854,7 @@ void LinearSolver::solve(const std::function<void(int, double)>& progress) {
     checkpoint();
     gather();
     const double change = push() / scale;
+    update_spread();
     update_importance();
     checkpoint();
     // The last allowed iteration only gathers, so the result is consistent.
@@ -831,6 +900,7 @@ void LinearSolver::collect_stats() {
     const SurfaceState& st = surfaces_[s];
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +
+                           (st.node_spread.capacity() + st.cluster_spread.capacity()) * sizeof(Rgb) +
                            (st.pixels.capacity() + st.deposit.capacity() + st.importance.capacity()) * sizeof(double);
   }
   stats_.world_adaptation = adaptation_;

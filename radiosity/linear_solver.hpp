@@ -17,6 +17,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include "radiosity/element_floor.hpp"
@@ -42,7 +43,11 @@ struct LinearOptions {
   double eps_pixel = 0.3;
   // Shooter oracle (§4.2): refine a link when its largest basis contribution,
   // reflected, relative to the world adaptation luminance, times the pixels
-  // of the receiving node's hat function, exceeds eps_link.
+  // of the receiving node's hat function, exceeds eps_link. Also when the
+  // error of the shooter element's own values (form factor times its spread,
+  // shooter_spread.hpp), reflected, relative to the adaptation, summed over
+  // the pixels of every node of the graph linked to that element, does: the
+  // nodes share that error, so it is one error over all their pixels.
   double eps_link = 10.0;
   // |V1 − V2| at or above this is a visibility change (§4.1): the oracle
   // then uses the conservative max − min.
@@ -136,6 +141,10 @@ class LinearSolver {
     std::vector<RootCluster> clusters;
     std::vector<double> root_exposure;  // per root: its fraction open to the scene
     std::vector<Rgb> cluster_radiance;  // mean over each cluster
+    // Bounds on how far each node's corner values and each cluster's mean
+    // are from the radiance they stand for (shooter_spread.hpp).
+    std::vector<Rgb> node_spread;
+    std::vector<Rgb> cluster_spread;
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it
     std::vector<double> importance;  // per node: pixels plus what reflection makes of it elsewhere
@@ -174,6 +183,9 @@ class LinearSolver {
   void seed_vertices(int graph, const std::vector<InteractionGraph::NewVertex>& created,
                      std::vector<PendingLink>& pending);
   Rgb shooter_value(int s, NodeId element, int l) const;
+  void update_spread();
+  double representation_error(int s, const GraphLink& link, const Rgb& rho) const;
+  std::unordered_map<std::uint64_t, double> shared_representation_error(const std::vector<PendingLink>& links) const;
   // The floor depends on the other end of the interaction (ElementFloor).
   bool splittable(int s, NodeId element, int partner) const;
   std::vector<NodeId> children(int s, NodeId element);

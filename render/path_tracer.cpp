@@ -158,6 +158,7 @@ struct Triangle {
   Vec3 centroid;
   double area = 0.0;
   int material = 0;
+  int surface = 0;  // index into Scene::surfaces
   double pick_probability = 0.0;  // of next-event estimation choosing it; 0 unless it emits
 };
 
@@ -383,7 +384,8 @@ PathTracer::PathTracer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   m.materials = scene.materials;
   double magnitude = 0.0;
   const Bounds bounds = scene_bounds(scene);
-  for (const Surface& surface : scene.surfaces) {
+  for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
+    const Surface& surface = scene.surfaces[si];
     if (surface.material < 0 || surface.material >= static_cast<int>(m.materials.size())) {
       throw std::runtime_error("surface " + surface.name + ": material index out of range");
     }
@@ -417,6 +419,7 @@ PathTracer::PathTracer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
         t.normal = c / (2.0 * t.area);
         t.centroid = (t.corners[0] + t.corners[1] + t.corners[2]) / 3.0;
         t.material = surface.material;
+        t.surface = static_cast<int>(si);
         m.triangles.push_back(t);
       }
     }
@@ -500,6 +503,18 @@ std::vector<std::uint8_t> PathTracer::coverage(const Camera& camera) const {
     }
   });
   return mask;
+}
+
+std::vector<std::int32_t> PathTracer::pixel_surfaces(const Camera& camera) const {
+  const CameraRays rays(camera);
+  std::vector<std::int32_t> surfaces(static_cast<std::size_t>(camera.width) * camera.height, -1);
+  tbb::parallel_for(0, camera.height, [&](int y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const auto hit = impl_->intersect(rays.origin(), rays.direction(x, y));
+      if (hit) surfaces[static_cast<std::size_t>(y) * camera.width + x] = impl_->triangles[hit->triangle].surface;
+    }
+  });
+  return surfaces;
 }
 
 ReferenceImage PathTracer::render(const Camera& camera, const PathTraceOptions& options,

@@ -87,6 +87,9 @@ class PathTracer {
 
   // 1 where the ray through the pixel centre hits a surface.
   std::vector<std::uint8_t> coverage(const Camera& camera) const;
+  // Per pixel: the index in Scene::surfaces of the surface the ray through
+  // the pixel centre hits first, or -1 (per-surface comparisons).
+  std::vector<std::int32_t> pixel_surfaces(const Camera& camera) const;
 
   // The scene triangle under x whose front faces along `normal`, with x
   // moved slightly toward `toward` (a point inside the same surface, e.g. a

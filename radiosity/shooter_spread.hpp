@@ -1,0 +1,53 @@
+#pragma once
+// How far a shooter element's representation can be from the radiance it
+// stands for (DESIGN §4, shooter oracle). A link carries an element's basis
+// values — a cluster's mean, a triangle's corner values — to a receiver that
+// may see only part of it (the dark floor in front of a block, not the floor's
+// lit middle); what it carries is off by at most the link's form factor times
+// this spread, so the oracles refine where that product matters even when the
+// element's mean looks harmless.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "mesh/hierarchy.hpp"
+#include "mesh/types.hpp"
+
+namespace lhr {
+
+// Linear elements: per node, per channel, a bound on |L(x) − P(x)| over the
+// node, where L is the piecewise-linear radiance of the node's leaves and P
+// the linear interpolant of its three corner values. 0 at a leaf. Built
+// bottom-up: a child's bound plus how far its corners (the parent's edge
+// midpoints) are from the parent's interpolant.
+std::vector<Rgb> linear_node_spread(const SurfaceHierarchy& h, const std::vector<Rgb>& vertex_radiance);
+
+// Constant elements: per node, per channel, max |L(leaf) − L(node)| over the
+// leaves below it. 0 at a leaf.
+std::vector<Rgb> constant_node_spread(const SurfaceHierarchy& h, const std::vector<Rgb>& node_radiance);
+
+// Per cluster: a bound on |L(x) − value[c]| over the open part of its roots
+// (a root closed off entirely is seen by no receiver), given each root's own
+// spread and how far its representative values (`root_values(root)`: its
+// corners, or its one constant) are from the cluster's value.
+// Cluster: anything with a `roots` list (RootCluster, or a solver's own).
+template <typename Cluster, typename RootValues>
+std::vector<Rgb> cluster_spread(const std::vector<Cluster>& clusters, const std::vector<Rgb>& value,
+                                const std::vector<double>& root_exposure, const std::vector<Rgb>& node_spread,
+                                const RootValues& root_values) {
+  std::vector<Rgb> out(clusters.size(), Rgb(0, 0, 0));
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    for (NodeId root : clusters[c].roots) {
+      if (!(root_exposure[root] > 0)) continue;
+      for (const Rgb& v : root_values(root)) {
+        for (int k = 0; k < 3; ++k) {
+          out[c][k] = std::max(out[c][k], node_spread[root][k] + std::abs(v[k] - value[c][k]));
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace lhr

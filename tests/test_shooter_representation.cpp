@@ -1,0 +1,299 @@
+// A receiver that sees only the dark part of a shooter surface (DESIGN §4,
+// shooter oracle): a floor lit from beyond one edge, bright there and dark at
+// the other, and a wall standing over the dark edge. A shooter element that
+// stands for the whole floor with its mean, or a coarse triangle with its
+// corner values, carries the lit part's light to the wall, which sees it only
+// at a grazing angle. The truth is a direct integral: the floor's radiance
+// from the exact form factor to the light (nothing lies between them), then
+// the wall's from a fine quadrature over the floor (nothing lies between
+// them either); a third bounce (wall back to floor back to wall) is below
+// ρ_wall·ρ_floor·F·F ≈ 0.3 % and left out.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "radiosity/classical_solver.hpp"
+#include "radiosity/form_factor.hpp"
+#include "radiosity/linear_solver.hpp"
+#include "radiosity/shooter_spread.hpp"
+#include "scene_fixtures.hpp"
+
+namespace lhr {
+namespace {
+
+constexpr double kFloorReflectance = 0.7;
+constexpr double kWallReflectance = 0.5;
+constexpr double kEmission = 1.0;
+constexpr double kLightHeight = 0.3;
+constexpr double kWallBottom = 0.35, kWallTop = 0.75;
+
+// Light: x ∈ [1, 1.4] beyond the floor's edge, facing down.
+std::vector<Vec3> light_polygon() {
+  return {Vec3(1.0, 0, kLightHeight), Vec3(1.0, 1, kLightHeight), Vec3(1.4, 1, kLightHeight),
+          Vec3(1.4, 0, kLightHeight)};
+}
+
+Scene floor_lit_from_one_side() {
+  PolygonSoup soup;
+  Material floor, wall, light;
+  floor.name = "floor";
+  floor.reflectance = Rgb(kFloorReflectance, kFloorReflectance, kFloorReflectance);
+  wall.name = "wall";
+  wall.reflectance = Rgb(kWallReflectance, kWallReflectance, kWallReflectance);
+  light.name = "light";
+  light.reflectance = Rgb(0, 0, 0);
+  light.emission = Rgb(kEmission, kEmission, kEmission);
+  soup.materials = {floor, wall, light};
+  soup.groups = {"floor", "wall", "light"};
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
+  // x = 0, facing +x, above the light's plane: it sees the light's back only.
+  test::add_quad(soup, Vec3(0, 0, kWallBottom), Vec3(0, 1, kWallBottom), Vec3(0, 1, kWallTop), Vec3(0, 0, kWallTop),
+                 1, 1);
+  const auto l = light_polygon();
+  test::add_quad(soup, l[0], l[1], l[2], l[3], 2, 2);
+  return test::scene_from_soup(soup, "floor lit from one side");
+}
+
+double floor_direct(const Vec3& y) {
+  const auto light = light_polygon();
+  return kFloorReflectance * kEmission * point_polygon_form_factor(y, Vec3(0, 0, 1), light);
+}
+
+// The wall's mean radiance: floor and wall on grids of midpoints (128×128
+// and 32×16 cells), the floor lit by the exact form factor to the light, the
+// two exchanging light until the change is below 1e-9 (Nyström's method;
+// nothing occludes either pair).
+double wall_mean_truth() {
+  constexpr int kFloor = 128, kWallY = 32, kWallZ = 16;
+  const double floor_cell = 1.0 / (kFloor * kFloor);
+  const double wall_cell = (kWallTop - kWallBottom) / (kWallY * kWallZ);
+  std::vector<Vec3> y, x;
+  std::vector<double> direct;
+  for (int i = 0; i < kFloor; ++i) {
+    for (int j = 0; j < kFloor; ++j) {
+      y.emplace_back((i + 0.5) / kFloor, (j + 0.5) / kFloor, 0.0);
+      direct.push_back(floor_direct(y.back()));
+    }
+  }
+  for (int a = 0; a < kWallY; ++a) {
+    for (int b = 0; b < kWallZ; ++b) {
+      x.emplace_back(0.0, (a + 0.5) / kWallY, kWallBottom + (b + 0.5) / kWallZ * (kWallTop - kWallBottom));
+    }
+  }
+  // Point-to-point kernel cosθ_floor cosθ_wall / (π r²).
+  const auto kernel = [](const Vec3& floor, const Vec3& wall) {
+    const Vec3 d = floor - wall;
+    const double r2 = d.sqrnorm();
+    return (d[0] / std::sqrt(r2)) * (-d[2] / std::sqrt(r2)) / (M_PI * r2);
+  };
+  std::vector<double> floor_L = direct, wall_L(x.size(), 0.0);
+  double mean = 0.0;
+  for (int pass = 0; pass < 20; ++pass) {
+    for (std::size_t a = 0; a < x.size(); ++a) {
+      double e = 0.0;
+      for (std::size_t k = 0; k < y.size(); ++k) e += floor_L[k] * kernel(y[k], x[a]) * floor_cell;
+      wall_L[a] = kWallReflectance * e;
+    }
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      double e = 0.0;
+      for (std::size_t a = 0; a < x.size(); ++a) e += wall_L[a] * kernel(y[k], x[a]) * wall_cell;
+      floor_L[k] = direct[k] + kFloorReflectance * e;
+    }
+    double next = 0.0;
+    for (double v : wall_L) next += v / static_cast<double>(x.size());
+    if (std::abs(next - mean) < 1e-9 * next) break;
+    mean = next;
+  }
+  return mean;
+}
+
+// 1/20 of the scene's bounding-box diagonal, as lhr solve chooses by default.
+MeshingOptions default_meshing() {
+  MeshingOptions meshing;
+  meshing.max_edge = std::sqrt(1.4 * 1.4 + 1.0 + kWallTop * kWallTop) / 20.0;
+  return meshing;
+}
+
+int surface_named(const SceneModel& model, const std::string& prefix) {
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    if (model.scene().surfaces[s].name.rfind(prefix, 0) == 0) return s;
+  }
+  throw std::runtime_error("no surface " + prefix);
+}
+
+// Area-weighted mean of a conforming mesh's vertex values (what a view of it shows).
+double mesh_mean(const ConformingMesh& mesh, const std::vector<Rgb>& values) {
+  double sum = 0.0, area = 0.0;
+  for (const auto fh : mesh.mesh.faces()) {
+    const double a = mesh.mesh.calc_face_area(fh);
+    double v = 0.0;
+    for (const auto vh : mesh.mesh.fv_range(fh)) v += values[vh.idx()][0] / 3.0;
+    sum += a * v;
+    area += a;
+  }
+  return sum / area;
+}
+
+// One triangle split three levels deep, unevenly (one corner child and the
+// centre child of it split again).
+SurfaceHierarchy split_triangle() {
+  TriMesh mesh;
+  const auto a = mesh.add_vertex(Vec3(0, 0, 0)), b = mesh.add_vertex(Vec3(1, 0, 0)), c = mesh.add_vertex(Vec3(0, 1, 0));
+  mesh.add_face(a, b, c);
+  SurfaceHierarchy h(std::move(mesh));
+  h.split(0);
+  h.split(h.child(0, 2));
+  h.split(h.child(h.child(0, 2), 3));
+  return h;
+}
+
+// Barycentric interpolation of the corner values of node n at p.
+Rgb interpolant(const SurfaceHierarchy& h, const std::vector<Rgb>& L, NodeId n, const Vec3& p) {
+  const auto& k = h.corners(n);
+  const Vec3 e1 = h.point(k[1]) - h.point(k[0]), e2 = h.point(k[2]) - h.point(k[0]), d = p - h.point(k[0]);
+  const double det = e1[0] * e2[1] - e1[1] * e2[0];
+  const double u = (d[0] * e2[1] - d[1] * e2[0]) / det, v = (e1[0] * d[1] - e1[1] * d[0]) / det;
+  return (1 - u - v) * L[k[0]] + u * L[k[1]] + v * L[k[2]];
+}
+
+TEST(ShooterSpread, LinearRadianceHasNoSpread) {
+  const SurfaceHierarchy h = split_triangle();
+  std::vector<Rgb> L;
+  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+    const Vec3 p = h.point(v);
+    L.push_back(Rgb(1 + 2 * p[0] + 3 * p[1], 0.5 - p[0], 4 * p[1]));
+  }
+  for (const Rgb& s : linear_node_spread(h, L)) EXPECT_LT(s.max(), 1e-12);
+}
+
+TEST(ShooterSpread, LinearSpreadBoundsEveryVertexBelowAndIsExactOneLevelDown) {
+  const SurfaceHierarchy h = split_triangle();
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> value(0.0, 1.0);
+  std::vector<Rgb> L;
+  for (std::size_t v = 0; v < h.num_vertices(); ++v) L.push_back(Rgb(value(random), value(random), value(random)));
+  const std::vector<Rgb> spread = linear_node_spread(h, L);
+  for (NodeId n = 0; n < static_cast<NodeId>(h.num_nodes()); ++n) {
+    // Every vertex of every node below n.
+    Rgb worst(0, 0, 0);
+    std::vector<NodeId> stack{n};
+    while (!stack.empty()) {
+      const NodeId m = stack.back();
+      stack.pop_back();
+      for (VertexId v : h.corners(m)) {
+        const Rgb off = L[v] - interpolant(h, L, n, h.point(v));
+        for (int c = 0; c < 3; ++c) worst[c] = std::max(worst[c], std::abs(off[c]));
+      }
+      if (!h.is_leaf(m)) {
+        for (int c = 0; c < 4; ++c) stack.push_back(h.child(m, c));
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GE(spread[n][c], worst[c] - 1e-12) << "node " << n;
+      if (h.is_leaf(n)) {
+        EXPECT_EQ(spread[n][c], 0.0);
+      }
+      // Children that are leaves: the bound is the largest midpoint deviation itself.
+      bool one_level = !h.is_leaf(n);
+      for (int k = 0; k < 4 && one_level; ++k) one_level = h.is_leaf(h.child(n, k));
+      if (one_level) {
+        EXPECT_NEAR(spread[n][c], worst[c], 1e-12) << "node " << n;
+      }
+    }
+  }
+}
+
+TEST(ShooterSpread, ConstantSpreadIsTheFarthestLeafFromTheNodeValue) {
+  const SurfaceHierarchy h = split_triangle();
+  std::vector<Rgb> L(h.num_nodes(), Rgb(0, 0, 0));
+  for (NodeId n : h.leaves()) L[n] = Rgb(0.1 * n, 1.0, 2.0 - 0.1 * n);
+  // Parents: the mean of their children (push-pull).
+  for (NodeId n = static_cast<NodeId>(h.num_nodes()); n-- > 0;) {
+    if (h.is_leaf(n)) continue;
+    L[n] = 0.25 * (L[h.child(n, 0)] + L[h.child(n, 1)] + L[h.child(n, 2)] + L[h.child(n, 3)]);
+  }
+  const std::vector<Rgb> spread = constant_node_spread(h, L);
+  const std::vector<NodeId> leaves = h.leaves();
+  const NodeId lo = *std::min_element(leaves.begin(), leaves.end());
+  const NodeId hi = *std::max_element(leaves.begin(), leaves.end());
+  EXPECT_NEAR(spread[0][0], std::max(0.1 * hi - L[0][0], L[0][0] - 0.1 * lo), 1e-12);
+  EXPECT_NEAR(spread[0][1], 0.0, 1e-12);
+  EXPECT_NEAR(spread[0][2], spread[0][0], 1e-12);
+  for (NodeId n : leaves) EXPECT_EQ(spread[n][0], 0.0);
+}
+
+TEST(ShooterSpread, ClusterSpreadSkipsClosedRoots) {
+  struct Cluster {
+    std::vector<NodeId> roots;
+  };
+  const std::vector<Cluster> clusters{{{0, 1, 2}}};
+  const std::vector<Rgb> corner_values{Rgb(1, 1, 1), Rgb(3, 3, 3), Rgb(0, 0, 0)};
+  const std::vector<Rgb> root_spread{Rgb(0.5, 0, 0), Rgb(0, 0, 0), Rgb(9, 9, 9)};
+  const std::vector<double> exposure{1.0, 0.5, 0.0};  // root 2 lies under a block
+  const auto spread = cluster_spread(clusters, {Rgb(2, 2, 2)}, exposure, root_spread,
+                                     [&](NodeId r) { return std::array<Rgb, 1>{corner_values[r]}; });
+  // Root 0: 0.5 + |1 − 2| in red, 1 elsewhere; root 1: |3 − 2| = 1.
+  EXPECT_NEAR(spread[0][0], 1.5, 1e-12);
+  EXPECT_NEAR(spread[0][1], 1.0, 1e-12);
+}
+
+TEST(ShooterRepresentation, PreconditionTheWallSeesADarkPartOfABrightFloor) {
+  // The floor next to the wall is far darker than the floor's mean, so a
+  // mean shooter is far off for this receiver.
+  double floor_mean = 0.0;
+  for (int i = 0; i < 100; ++i) floor_mean += floor_direct(Vec3((i + 0.5) / 100, 0.5, 0)) / 100;
+  EXPECT_LT(floor_direct(Vec3(0.05, 0.5, 0)), 0.1 * floor_mean);
+  EXPECT_GT(wall_mean_truth(), 0.0);
+}
+
+TEST(ShooterRepresentation, LinearWallMatchesTheIntegralOverTheFloor) {
+  const Scene scene = floor_lit_from_one_side();
+  SceneModel model(scene, default_meshing());
+  // A camera across the floor sees the wall over a few thousand pixels, a
+  // few per node: the paper's per-node test alone keeps the whole-floor link
+  // at every wall node (its mean then shows on the whole wall).
+  LinearOptions options;
+  Camera camera;
+  camera.eye = Vec3(1.6, 0.5, 0.9);
+  camera.target = Vec3(0.0, 0.5, 0.4);
+  camera.up = Vec3(0, 0, 1);
+  camera.fov_y_deg = 60.0;
+  camera.width = camera.height = 128;
+  std::vector<const TriMesh*> meshes;
+  for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
+  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
+    if (h.surface >= 0) options.view.push_back({h.surface, h.face, h.u, h.v});
+  }
+  LinearSolver solver(model, options);
+  solver.solve();
+  const int wall = surface_named(model, "wall");
+  const ConformingMesh mesh = model.hierarchy(wall).conforming_mesh();
+  const double truth = wall_mean_truth();
+  const double mean = mesh_mean(mesh, solver.vertex_radiance(wall, mesh));
+  EXPECT_NEAR(mean / truth, 1.0, 0.03) << "solver " << mean << ", integral " << truth << ", links "
+                                        << solver.stats().links;
+}
+
+TEST(ShooterRepresentation, ClassicalWallMatchesTheIntegralOverTheFloor) {
+  const Scene scene = floor_lit_from_one_side();
+  SceneModel model(scene, default_meshing());
+  ClassicalOptions options;
+  options.visibility_samples = 1;  // nothing occludes anything here
+  ClassicalSolver solver(model, options);
+  solver.solve();
+  const int wall = surface_named(model, "wall");
+  const SurfaceHierarchy& h = model.hierarchy(wall);
+  double sum = 0.0, area = 0.0;
+  for (NodeId n : h.leaves()) {
+    sum += model.area(wall, n) * solver.radiance(wall, n)[0];
+    area += model.area(wall, n);
+  }
+  const double truth = wall_mean_truth();
+  EXPECT_NEAR(sum / area / truth, 1.0, 0.03) << "solver " << sum / area << ", integral " << truth << ", links "
+                                             << solver.stats().links;
+}
+
+}  // namespace
+}  // namespace lhr

@@ -13,7 +13,7 @@
 #include "radiosity/sampling.hpp"
 #include "radiosity/shooter_spread.hpp"
 #include "radiosity/tone_map.hpp"
-#include "radiosity/triangle_geometry.hpp"
+#include "mesh/triangle_geometry.hpp"
 
 namespace lhr {
 

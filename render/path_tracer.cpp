@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "mesh/triangle_geometry.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/tone_map.hpp"
 #include "render/camera_rays.hpp"
@@ -128,28 +129,6 @@ std::optional<std::vector<std::array<int, 3>>> triangulate(const std::vector<std
     if (!clipped) return std::nullopt;
   }
   return out;
-}
-
-// The point of triangle abc nearest p (Ericson, Real-Time Collision
-// Detection §5.1.5: by the Voronoi region of p).
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = OpenMesh::dot(ab, ap), d2 = OpenMesh::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = OpenMesh::dot(ab, bp), d4 = OpenMesh::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = OpenMesh::dot(ab, cp), d6 = OpenMesh::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + (vb * denom) * ab + (vc * denom) * ac;
 }
 
 struct Triangle {
@@ -277,7 +256,7 @@ struct PathTracer::Impl {
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       const Triangle& t = triangles[i];
       if (!(OpenMesh::dot(t.normal, n) > kFacingCosine)) continue;
-      const Vec3 q = closest_point_on_triangle(p, t.corners[0], t.corners[1], t.corners[2]);
+      const Vec3 q = closest_point(p, t.corners);
       const double d = (q - p).norm();
       if (d <= best_distance) {
         best = static_cast<int>(i);

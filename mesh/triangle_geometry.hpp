@@ -1,5 +1,5 @@
 #pragma once
-// Point–triangle geometry the refinement oracles need.
+// Point–triangle geometry shared by the refinement oracles and the path tracer.
 
 #include <array>
 

@@ -1,4 +1,4 @@
-#include "radiosity/triangle_geometry.hpp"
+#include "mesh/triangle_geometry.hpp"
 
 namespace lhr {
 

@@ -41,10 +41,11 @@ constexpr double kFacingCosine = 0.5;
 constexpr double kLocateReach = 4.0;
 // How far the nearest-triangle fallback looks: a curved surface is meshed as
 // facets whose refined vertices (midpoints of edges across a fold) lie off
-// the input polygons by the fold's sag, about 1e-4 of the scene size on the
-// Cornell box's left wall (3.2 mm out of true over 560 mm); a mesh of
-// another scene lies much further off.
-constexpr double kFallbackReach = 100.0;
+// the input polygons by the fold's sag: about 1e-4 of the scene size on the
+// Cornell box's left wall (3.2 mm out of true over 560 mm), 1e-3 on a UV
+// sphere of 32 × 16 segments filling a fifth of its room. A mesh of another
+// scene lies much further off.
+constexpr double kFallbackReach = 1000.0;
 
 Rgb times(const Rgb& a, const Rgb& b) { return Rgb(a[0] * b[0], a[1] * b[1], a[2] * b[2]); }
 double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }

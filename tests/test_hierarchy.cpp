@@ -16,6 +16,7 @@
 
 #include "mesh/hierarchy.hpp"
 #include "mesh/validate.hpp"
+#include "scene_fixtures.hpp"
 
 namespace lhr {
 namespace {
@@ -93,17 +94,6 @@ NodeId leaf_containing(const SurfaceHierarchy& h, const Vec3& p) {
     }
   }
   return found;
-}
-
-RawMesh to_raw(const TriMesh& mesh) {
-  RawMesh raw;
-  for (const auto vh : mesh.vertices()) raw.points.push_back(mesh.point(vh));
-  for (const auto fh : mesh.faces()) {
-    std::vector<int> f;
-    for (const auto vh : mesh.fv_range(fh)) f.push_back(vh.idx());
-    raw.faces.push_back(f);
-  }
-  return raw;
 }
 
 std::vector<std::array<int, 3>> face_list(const TriMesh& mesh) {
@@ -494,7 +484,7 @@ TEST(Hierarchy, RandomSplitsKeepInvariantsAndExportCrackFree) {
 TEST(Hierarchy, RandomSplitsExportPassesConformingCheck) {
   SurfaceHierarchy h(grid_mesh());
   random_splits(h, 20240611u, [&](int step) {
-    const auto violations = check_conforming_mesh(to_raw(h.conforming_mesh().mesh));
+    const auto violations = check_conforming_mesh(test::raw_mesh(h.conforming_mesh().mesh));
     ASSERT_TRUE(violations.empty()) << "after " << step << " splits:\n" << violations_text(violations);
   });
 }

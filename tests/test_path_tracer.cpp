@@ -321,12 +321,7 @@ TEST(PathTracer, RejectsTooFewSamples) {
 
 // A tiny scene on disk: the lit receiver as OBJ, MTL and scene JSON.
 std::filesystem::path write_tiny_scene(const std::filesystem::path& dir, int width, int height) {
-  test::write_text(dir / "tiny.mtl", "newmtl floor\nKd 0.7 0.6 0.5\nKe 0 0 0\n"
-                                     "newmtl light\nKd 0 0 0\nKe 3 3 3\n");
-  test::write_text(dir / "tiny.obj",
-                   "mtllib tiny.mtl\n"
-                   "g floor\nusemtl floor\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
-                   "g light\nusemtl light\nv 0.2 0.2 0.5\nv 0.2 0.8 0.5\nv 0.8 0.8 0.5\nv 0.8 0.2 0.5\nf 5 6 7 8\n");
+  test::write_lit_floor_obj(dir);
   const auto path = dir / ("tiny_" + std::to_string(width) + ".scene.json");
   test::write_text(path, "{\"mesh\": \"tiny.obj\", \"camera\": {\"eye\": [0.5, -0.3, 0.3], \"target\": [0.5, 0.5, "
                          "0.15], \"up\": [0, 0, 1], \"fov_y_deg\": 90, \"width\": " +

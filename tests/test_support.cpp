@@ -70,4 +70,13 @@ int count_lines(const std::string& text) {
   return n;
 }
 
+void write_lit_floor_obj(const std::filesystem::path& dir) {
+  write_text(dir / "tiny.mtl", "newmtl floor\nKd 0.7 0.6 0.5\nKe 0 0 0\n"
+                               "newmtl light\nKd 0 0 0\nKe 3 3 3\n");
+  write_text(dir / "tiny.obj",
+             "mtllib tiny.mtl\n"
+             "g floor\nusemtl floor\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
+             "g light\nusemtl light\nv 0.2 0.2 0.5\nv 0.2 0.8 0.5\nv 0.8 0.8 0.5\nv 0.8 0.2 0.5\nf 5 6 7 8\n");
+}
+
 }  // namespace lhr::test

@@ -20,6 +20,9 @@ std::filesystem::path source_dir();
 // A fresh, empty directory for one test, removed and recreated on each call.
 std::filesystem::path fresh_dir(const std::string& name);
 void write_text(const std::filesystem::path& path, const std::string& text);
+// dir/tiny.obj and dir/tiny.mtl: a unit floor (Kd 0.7 0.6 0.5) in z = 0 under
+// a 0.6 x 0.6 light (Ke 3, Kd 0) at height 0.5, facing it.
+void write_lit_floor_obj(const std::filesystem::path& dir);
 std::string read_text(const std::filesystem::path& path);
 // Number of lines of text (for one-line error messages).
 int count_lines(const std::string& text);

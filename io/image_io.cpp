@@ -1,5 +1,6 @@
 #include "io/image_io.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -23,6 +24,12 @@ std::string lower_extension(const std::filesystem::path& path) {
 }  // namespace
 
 void write_image(const std::filesystem::path& path, const Image& image) {
+  AtomicOutputs outputs;
+  write_image(outputs, path, image);
+  outputs.publish();
+}
+
+void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, const Image& image) {
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr") {
     throw std::runtime_error(path.string() + ": unknown image type (use .png or .exr)");
@@ -31,12 +38,20 @@ void write_image(const std::filesystem::path& path, const Image& image) {
       image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * image.height) {
     throw std::runtime_error(path.string() + ": image has no pixels or a wrong buffer size");
   }
-  write_atomically(path, [&](const std::filesystem::path& temp) {
-    auto out = OIIO::ImageOutput::create(temp.string());
+  // Encoded in memory, then written through the library's checked stream:
+  // the file writers of the image plugins do not all report a failed write
+  // or close with its reason.
+  std::vector<unsigned char> encoded;
+  {
+    OIIO::Filesystem::IOVecOutput proxy(encoded);
+    auto out = OIIO::ImageOutput::create(path.string());
     if (!out) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy)) {
+      throw std::runtime_error(path.string() + ": the image writer cannot write to memory");
+    }
     const bool png = ext == ".png";
     OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::HALF);
-    if (!out->open(temp.string(), spec)) throw std::runtime_error(path.string() + ": " + out->geterror());
+    if (!out->open(path.string(), spec)) throw std::runtime_error(path.string() + ": " + out->geterror());
     bool ok;
     if (png) {
       std::vector<float> clamped(image.rgb.size());
@@ -47,6 +62,9 @@ void write_image(const std::filesystem::path& path, const Image& image) {
       ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
     }
     if (!ok || !out->close()) throw std::runtime_error(path.string() + ": " + out->geterror());
+  }
+  outputs.stage(path, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(encoded.data()), static_cast<std::streamsize>(encoded.size()));
   });
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "mesh/types.hpp"
 
 namespace lhr {
@@ -24,6 +25,8 @@ struct Image {
 // Writes by extension: .png (values in [0,1], 8 bit, clamped) or .exr
 // (half float, linear). Throws std::runtime_error naming the file.
 void write_image(const std::filesystem::path& path, const Image& image);
+// The same, staged in a set of outputs published together.
+void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, const Image& image);
 
 // Reads any format OpenImageIO knows, first three channels (grey is
 // replicated). Throws InputError naming the file.

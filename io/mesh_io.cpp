@@ -135,6 +135,12 @@ void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rg
 }
 
 void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
+  AtomicOutputs outputs;
+  write_mesh(outputs, path, mesh);
+  outputs.publish();
+}
+
+void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const ExportMesh& mesh) {
   const std::string ext = lower_extension(path);
   OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
   if (ext == ".ply") {
@@ -188,9 +194,11 @@ void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
                              std::to_string(mesh.triangles.size()) + " triangles could be stored");
   }
 
-  write_atomically(path, [&](const std::filesystem::path& temp) {
+  // Through a stream the library checks: OpenMesh's own file writer does not
+  // see a failed write or close, and reported a truncated file as written.
+  outputs.stage(path, [&](std::ostream& out) {
     const QuietOpenMesh quiet;
-    if (!OpenMesh::IO::write_mesh(om, temp.string(), options, kTextPrecision)) {
+    if (!OpenMesh::IO::write_mesh(om, out, ext, options, kTextPrecision)) {
       throw std::runtime_error(path.string() + ": cannot write mesh file");
     }
   });

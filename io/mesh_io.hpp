@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "mesh/types.hpp"
 #include "mesh/validate.hpp"
 
@@ -29,6 +30,8 @@ void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rg
 // By extension: .ply (binary, x y z, red green blue uchar, radiance_r/g/b
 // float, radiance_stderr float when given) or .off (COFF, colours only). Written atomically. Throws std::runtime_error.
 void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh);
+// The same, staged in a set of outputs published together.
+void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const ExportMesh& mesh);
 
 // Reads a PLY/OFF exactly as stored (no vertex merging, no face repair),
 // through OpenMesh's readers. Throws InputError.

@@ -522,13 +522,8 @@ std::string number(double x) {
 
 std::string triple(const Vec3& v) { return number(v[0]) + " " + number(v[1]) + " " + number(v[2]); }
 
-void write_text_file(const std::filesystem::path& target, const std::string& text) {
-  write_atomically(target, [&](const std::filesystem::path& temp) {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(target.string() + ": cannot write file");
-  });
+void write_text_file(AtomicOutputs& outputs, const std::filesystem::path& target, const std::string& text) {
+  outputs.stage(target, [&](std::ostream& out) { out << text; });
 }
 
 // Appends each piece in turn; building temporaries with "literal" + string
@@ -601,9 +596,13 @@ void write_scene_files(const GeneratedScene& scene, const std::filesystem::path&
   }
   // The JSON refers to the OBJ and the OBJ to the MTL, so write them in that
   // order of dependence: a reader never finds a reference to a missing file.
-  write_text_file(dir / (name + ".mtl"), mtl_text(scene.soup));
-  write_text_file(dir / (name + ".obj"), obj_text(scene.soup, name));
-  write_text_file(dir / (name + ".scene.json"), scene_json_text(scene.camera, name));
+  // Published together: a failed write leaves an earlier scene of that name
+  // whole, never a new OBJ beside an old MTL.
+  AtomicOutputs outputs;
+  write_text_file(outputs, dir / (name + ".mtl"), mtl_text(scene.soup));
+  write_text_file(outputs, dir / (name + ".obj"), obj_text(scene.soup, name));
+  write_text_file(outputs, dir / (name + ".scene.json"), scene_json_text(scene.camera, name));
+  outputs.publish();
 }
 
 }  // namespace lhr

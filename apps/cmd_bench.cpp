@@ -9,6 +9,7 @@
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/options.hpp"
+#include "io/output_dir.hpp"
 #include "apps/tone_options.hpp"
 #include "io/scene_loader.hpp"
 #include "render/bench_plan.hpp"
@@ -223,6 +224,7 @@ int run_bench(const Args& args) {
   // recorded arguments from any working directory.
   settings.scene = std::filesystem::absolute(scene_path).lexically_normal();
   settings.out_dir = vm["out"].as<std::string>();
+  prepare_output_directory(settings.out_dir);
   std::error_code ec;
   settings.executable = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec) settings.executable = "/proc/self/exe";

@@ -12,6 +12,7 @@
 #include "apps/commands.hpp"
 #include "apps/compare_meshes.hpp"
 #include "apps/options.hpp"
+#include "io/output_dir.hpp"
 #include "apps/tone_options.hpp"
 #include "io/image_io.hpp"
 #include "io/input_error.hpp"
@@ -95,6 +96,7 @@ int run_compare(const Args& args) {
   if (vm.count("diff")) {
     diff_path = vm["diff"].as<std::string>();
     if (diff_path->extension() != ".png") throw po::error("--diff must name a .png file");
+    check_output_file_location(*diff_path);
   }
 
   const Image image = read_image(image_path);

@@ -18,6 +18,7 @@
 #include "io/image_io.hpp"
 #include "io/input_error.hpp"
 #include "io/mesh_io.hpp"
+#include "io/output_dir.hpp"
 #include "io/scene_loader.hpp"
 #include "render/image_metrics.hpp"
 #include "render/path_tracer.hpp"
@@ -119,7 +120,7 @@ int run_reference(const Args& args) {
   const Camera camera = scene.camera.value_or(framing_camera(scene));
   // Refuse unusable output locations before the work, not after.
   for (const std::filesystem::path& path : {out, png.value_or(out)}) {
-    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    prepare_output_directory(path.has_parent_path() ? path.parent_path() : std::filesystem::path("."));
   }
 
   const PathTracer tracer(scene);
@@ -186,7 +187,8 @@ int run_reference(const Args& args) {
   }
   if (progress && !verbose) std::cerr << "\r" << std::string(79, ' ') << "\r";
 
-  write_image(out, reference.radiance);
+  AtomicOutputs outputs;
+  write_image(outputs, out, reference.radiance);
   if (png) {
     const auto tone_map = reference_tone_map(tone, reference.radiance, reference.mask);
     Image display(reference.radiance.width, reference.radiance.height);
@@ -195,8 +197,9 @@ int run_reference(const Args& args) {
       const Rgb d = tone_map->display_rgb(Rgb(p[0], p[1], p[2]));
       for (int c = 0; c < 3; ++c) display.rgb[3 * i + c] = static_cast<float>(d[c]);
     }
-    write_image(*png, display);
+    write_image(outputs, *png, display);
   }
+  outputs.publish();
   if (!quiet) {
     std::cerr << "lhr reference: " << reference.spp << " samples per pixel in " << reference.rounds
               << (reference.rounds == 1 ? " round" : " rounds") << ", noise " << 100.0 * reference.noise

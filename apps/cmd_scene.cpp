@@ -3,6 +3,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/options.hpp"
+#include "io/output_dir.hpp"
 #include "io/scene_generator.hpp"
 
 namespace lhr::app {
@@ -26,6 +27,7 @@ int run_scene(const Args& args) {
   if (!vm.count("name")) throw po::error("missing scene NAME (one of: " + names + ")");
   const std::string name = vm["name"].as<std::string>();
   const GeneratedScene scene = generate_scene(name);
+  check_output_directory(vm["out-dir"].as<std::string>());
   write_scene_files(scene, vm["out-dir"].as<std::string>(), name);
   std::cerr << "lhr scene: wrote " << name << ".obj, " << name << ".mtl, " << name << ".scene.json ("
             << scene.soup.faces.size() << " faces)\n";

@@ -16,6 +16,7 @@
 #include "io/image_io.hpp"
 #include "io/json_file.hpp"
 #include "io/mesh_io.hpp"
+#include "io/output_dir.hpp"
 #include "io/scene_loader.hpp"
 #include "render/scene_solution.hpp"
 
@@ -150,8 +151,11 @@ int run_solve(const Args& args) {
   settings.camera = camera;
   settings.meshing = meshing_options_from(vm, scene);
 
-  // Refuse an unusable output directory before the work, not after.
-  std::filesystem::create_directories(out_dir);
+  // Refuse an unusable output directory before the work, not after, and hold
+  // it until the outputs are published: two solves into one directory would
+  // otherwise interleave their files into a mixed set (docs/robustness.md).
+  prepare_output_directory(out_dir);
+  const OutputDirectoryLock out_lock(out_dir);
 
   bool any_emitter = false;
   for (const Material& m : scene.materials) any_emitter |= m.is_emitter();
@@ -188,16 +192,28 @@ int run_solve(const Args& args) {
 
   const auto t_output = Clock::now();
   const SolutionView& view = solution.view;
-  write_mesh(out_dir / "mesh.ply", view.export_mesh);
-  write_mesh(out_dir / "mesh.off", view.export_mesh);
-  write_image(out_dir / "image.exr", view.radiance_image);
-  write_image(out_dir / "image.png", view.display_image);
   nlohmann::json doc = solution.stats;
-  // Timings and memory vary from run to run; everything else does not.
-  doc["seconds"]["output"] = seconds_since(t_output);
-  doc["seconds"]["total"] = seconds_since(t_start);
-  doc["peak_memory_mib"] = peak_rss_mib();
-  write_json_file(out_dir / "stats.json", doc);
+  // Every file is complete on disk before any replaces an earlier one; an
+  // interrupt or a failed write until then leaves the earlier set whole.
+  try {
+    AtomicOutputs outputs;
+    write_mesh(outputs, out_dir / "mesh.ply", view.export_mesh);
+    throw_if_interrupted();
+    write_mesh(outputs, out_dir / "mesh.off", view.export_mesh);
+    throw_if_interrupted();
+    write_image(outputs, out_dir / "image.exr", view.radiance_image);
+    write_image(outputs, out_dir / "image.png", view.display_image);
+    // Timings and memory vary from run to run; everything else does not.
+    doc["seconds"]["output"] = seconds_since(t_output);
+    doc["seconds"]["total"] = seconds_since(t_start);
+    doc["peak_memory_mib"] = peak_rss_mib();
+    write_json_file(outputs, out_dir / "stats.json", doc);
+    throw_if_interrupted();
+    outputs.publish();
+  } catch (const Interrupted& e) {
+    std::cerr << "lhr solve: " << e.what() << "\n";
+    return kExitInterrupted;
+  }
 
   if (!quiet) {
     std::cerr << "lhr solve: " << method << ", " << doc["surfaces"] << " surfaces, " << doc["elements"]

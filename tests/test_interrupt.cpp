@@ -1,5 +1,5 @@
-// An interrupted `lhr solve` or `lhr reference`, of an image or at a mesh's
-// vertices (SIGINT or SIGTERM mid-run)
+// An interrupted `lhr solve`, `lhr mesh` or `lhr reference`, of an image or
+// at a mesh's vertices (SIGINT or SIGTERM mid-run)
 // exits cleanly with code 130, writes no file, and leaves an existing output
 // untouched.
 
@@ -25,8 +25,19 @@ struct Interrupted {
   std::string err;
 };
 
+// True once process pid has a handler for signal (its SigCgt mask in
+// /proc/PID/status): a signal sent earlier would take the default action.
+bool catches(pid_t pid, int signal) {
+  const std::string status = test::read_text("/proc/" + std::to_string(pid) + "/status");
+  const auto at = status.find("SigCgt:");
+  if (at == std::string::npos) return false;
+  const unsigned long long mask = std::stoull(status.substr(at + 7), nullptr, 16);
+  return (mask >> (signal - 1)) & 1u;
+}
+
 // Starts `lhr` with args (a run of many seconds) and signals it `delay`
-// after `marker` appears on its stderr: the run is then mid-work.
+// after `marker` appears on its stderr (an empty marker: after it installs
+// its handler for the signal): the run is then mid-work.
 Interrupted interrupt_run(const std::filesystem::path& dir, std::vector<std::string> args, const std::string& marker,
                           int signal, std::chrono::milliseconds delay) {
   const std::string err_file = (dir / "stderr.txt").string();
@@ -43,7 +54,7 @@ Interrupted interrupt_run(const std::filesystem::path& dir, std::vector<std::str
   Interrupted result;
   if (spawned != 0) return result;
   for (int waited = 0; waited < 600; ++waited) {
-    if (test::read_text(err_file).find(marker) != std::string::npos) break;
+    if (marker.empty() ? catches(pid, signal) : test::read_text(err_file).find(marker) != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   std::this_thread::sleep_for(delay);
@@ -120,6 +131,46 @@ TEST(Interrupt, SignalMidVertexReferenceExitsCleanlyAndKeepsTheOldMesh) {
     files.push_back(entry.path().filename().string());
   }
   EXPECT_EQ(files, std::vector<std::string>{"ref.ply"}) << "no new, partial or temporary file";
+}
+
+TEST(Interrupt, SignalMidMeshExitsCleanlyAndLeavesNoTemporary) {
+  // 400 separate small squares under a light, meshed finely: many surfaces,
+  // so the run is seconds long and checks for a signal between them.
+  const auto dir = test::fresh_dir("interrupt_mesh");
+  test::write_text(dir / "many.mtl", "newmtl floor\nKd 0.7 0.6 0.5\nnewmtl light\nKd 0 0 0\nKe 3 3 3\n");
+  std::string obj = "mtllib many.mtl\nusemtl floor\n";
+  int n = 0;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      const double x = 0.05 * i, y = 0.05 * j;
+      for (const auto& [dx, dy] : {std::pair{0.0, 0.0}, {0.04, 0.0}, {0.04, 0.04}, {0.0, 0.04}}) {
+        obj += "v " + std::to_string(x + dx) + " " + std::to_string(y + dy) + " 0\n";
+      }
+      obj += "f " + std::to_string(n + 1) + " " + std::to_string(n + 2) + " " + std::to_string(n + 3) + " " +
+             std::to_string(n + 4) + "\n";
+      n += 4;
+    }
+  }
+  obj += "usemtl light\nv 0.2 0.2 0.5\nv 0.2 0.8 0.5\nv 0.8 0.8 0.5\nv 0.8 0.2 0.5\nf -4 -3 -2 -1\n";
+  test::write_text(dir / "many.obj", obj);
+  for (const int signal : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(signal);
+    std::filesystem::remove_all(dir / "out");
+    std::filesystem::create_directories(dir / "out");
+    test::write_text(dir / "out" / "mesh.ply", "earlier result");
+    const Interrupted r = interrupt_run(dir,
+                                        {"mesh", (dir / "many.obj").string(), "--out",
+                                         (dir / "out" / "mesh.ply").string(), "--max-edge", "0.002"},
+                                        "", signal, std::chrono::milliseconds(300));
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_text(dir / "out" / "mesh.ply"), "earlier result");
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
+      files.push_back(entry.path().filename().string());
+    }
+    EXPECT_EQ(files, std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
+  }
 }
 
 }  // namespace

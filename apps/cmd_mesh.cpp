@@ -60,6 +60,8 @@ int run_mesh(const Args& args) {
                         to_byte(material.reflectance[2])};
     }
   }
+  out.colour_meaning = "the surface's reflectance Kd, 8 bit, linear";
+  out.radiance_meaning = "the surface's emitted radiance Ke (the mesh is not lit)";
   if (progress) std::cerr << "\n";
   const std::string out_path = vm["out"].as<std::string>();
   write_mesh(out_path, out);

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -65,6 +66,30 @@ bool read_channel(const OpenMesh::ArrayKernel& kernel, const char* name, std::ve
     return true;
   }
   return false;
+}
+
+// DESIGN §3 output: what the colour and radiance properties mean, in the
+// header where a reader of the file finds it.
+void add_ply_comments(const std::filesystem::path& file, const ExportMesh& mesh) {
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throw std::runtime_error(file.string() + ": cannot read back the PLY header");
+  }
+  const std::size_t format = bytes.find("\nformat ");
+  const std::size_t line_end = format == std::string::npos ? format : bytes.find('\n', format + 1);
+  if (line_end == std::string::npos) throw std::runtime_error(file.string() + ": PLY header without a format line");
+  std::string comments = "comment red green blue: " + mesh.colour_meaning + "\n" +
+                         "comment radiance_r radiance_g radiance_b: " + mesh.radiance_meaning + "\n";
+  if (!mesh.radiance_stderr.empty()) {
+    comments += "comment radiance_stderr: standard error of the luminance of the Monte Carlo estimate, same units\n";
+  }
+  bytes.insert(line_end + 1, comments);
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << bytes;
+  out.close();
+  if (!out) throw std::runtime_error(file.string() + ": cannot write the PLY header comments");
 }
 
 void check_export(const std::filesystem::path& path, const ExportMesh& mesh) {
@@ -140,7 +165,11 @@ void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
   if (ext == ".ply") {
     options += OpenMesh::IO::Options::Binary;
     options += OpenMesh::IO::Options::Custom;
-  } else if (ext != ".off") {
+  } else if (ext == ".off") {
+    // Geomview's OFF gives a COFF vertex colour four components (RGBA);
+    // readers that follow it (assimp) reject three.
+    options += OpenMesh::IO::Options::ColorAlpha;
+  } else {
     throw std::runtime_error(path.string() + ": unknown mesh format '" + path.extension().string() +
                              "' (write .ply or .off)");
   }
@@ -193,6 +222,7 @@ void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
     if (!OpenMesh::IO::write_mesh(om, temp.string(), options, kTextPrecision)) {
       throw std::runtime_error(path.string() + ": cannot write mesh file");
     }
+    if (ext == ".ply") add_ply_comments(temp, mesh);
   });
 }
 

@@ -142,6 +142,20 @@ TEST(EdgeCases, WhiteFurnaceStopsAtTheIterationLimit) {
   for (const Rgb& v : solve_classical(scene, 1.0, classical)) EXPECT_NEAR(v[0], 21.0, 0.5);
 }
 
+TEST(EdgeCases, WhiteFurnaceSolveWarnsThatItDidNotConverge) {
+  const auto dir = test::fresh_dir("edge_white_furnace");
+  test::write_text(dir / "white.mtl", "newmtl white\nKd 1 1 1\nKe 1 1 1\n");
+  test::write_text(dir / "white.obj",
+                   "mtllib white.mtl\nusemtl white\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                   "v 1 1 1\nv 0 1 1\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\n");
+  const auto r = test::run_lhr({"solve", (dir / "white.obj").string(), "--out", (dir / "out").string(),
+                                "--max-iterations", "3", "--max-edge", "1", "--threads", "1"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("reflectance 1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not converged after 3 iterations"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
+}
+
 TEST(EdgeCases, LightsAMillionTimesApartStayFinite) {
   PolygonSoup soup;
   soup.materials = {make_material("walls", 0.5, 0), make_material("bright", 0, 1e6), make_material("dim", 0, 1)};

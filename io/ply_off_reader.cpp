@@ -369,7 +369,7 @@ std::vector<std::optional<Rgb>> decode_colours(const fs::path& path, const std::
       if (!ok) {
         throw InputError(path, c.line,
                          c.what + ": colour component " + show(c.tokens[k]) +
-                             (floats ? " is not a number in [0, 1] (this file writes colours as floats)"
+                             (floats ? " is not a number in [0, 1] (colours with a decimal point are floats)"
                                      : " is not an integer in 0..255"));
       }
       if (k < 3) rgb[k] = floats ? *v : *v / 255.0;
@@ -444,7 +444,9 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
                            (texcoords ? ", s t" : "") + ")");
     }
     for (std::size_t k = 3; k < n; ++k) {
-      if (!parse_double(line.tokens[k])) throw InputError(path, line.number, what + ": " + show(line.tokens[k]) + " is not a number");
+      if (!parse_double(line.tokens[k])) {
+        throw InputError(path, line.number, what + ": " + show(line.tokens[k]) + " is not a number");
+      }
     }
     const std::size_t first = 3 + (normals ? 3 : 0);
     vertex_colours.push_back({line.number, what,
@@ -481,7 +483,8 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
     // 3 or 4 components.
     std::vector<std::string_view> colour(line.tokens.begin() + 1 + *n, line.tokens.end());
     if (colour.size() == 2 || colour.size() > 4) {
-      throw error(std::to_string(colour.size()) + " values after the indices; a face colour is 1 (a colour-map index), 3 or 4 numbers");
+      throw error(std::to_string(colour.size()) +
+                  " values after the indices; a face colour is 1 (a colour-map index), 3 or 4 numbers");
     }
     if (colour.size() == 1) {
       if (!parse_int(colour[0])) throw error(show(colour[0]) + " is not a colour-map index");

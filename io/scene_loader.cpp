@@ -107,8 +107,8 @@ ObjScan scan_obj(const fs::path& path, std::string_view text) {
         if (slash == std::string_view::npos) continue;
         const std::string_view rest = ref.substr(slash + 1);
         const std::size_t second = rest.find('/');
-        const std::string_view parts[2] = {rest.substr(0, second),
-                                           second == std::string_view::npos ? std::string_view() : rest.substr(second + 1)};
+        const std::string_view parts[2] = {
+            rest.substr(0, second), second == std::string_view::npos ? std::string_view() : rest.substr(second + 1)};
         for (int k = 0; k < 2; ++k) {
           if (parts[k].empty()) continue;
           const std::optional<long long> i = parse_int(parts[k]);
@@ -246,7 +246,9 @@ std::set<std::string> scan_mtl(const fs::path& mtl, const std::string& text, Mtl
         while (t + 1 < line.tokens.size() && parse_double(line.tokens[t])) ++t;
       }
       const std::string_view last = line.tokens.back();
-      if (material) material->texture = mtl.parent_path() / std::string(line.tokens[t].data(), last.data() + last.size());
+      if (material) {
+        material->texture = mtl.parent_path() / std::string(line.tokens[t].data(), last.data() + last.size());
+      }
     } else if (!is_read_key(key)) {
       ignores = true;
       const std::string name(key);

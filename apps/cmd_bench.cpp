@@ -147,10 +147,10 @@ int run_bench(const Args& args) {
       ("spp", po::value<std::string>()->default_value("4,16,64,256"), "path tracer runs: samples per pixel")
       ("reference", po::value<std::string>(), "use this EXR (linear radiance, the scene camera's size) as the "
        "reference instead of DIR/reference.exr")
-      ("reference-noise", po::value<double>()->default_value(0.01, "0.01"),
+      ("reference-noise", double_value(0.01),
        "target relative noise of the reference (0: exactly --reference-max-spp samples per pixel)")
       ("reference-max-spp", po::value<int>()->default_value(4096), "samples per pixel at most for the reference")
-      ("max-seconds", po::value<double>()->default_value(0.0), "start no run after this many seconds (0: no limit)")
+      ("max-seconds", double_value(0.0), "start no run after this many seconds (0: no limit)")
       ("min-edge", po::value<double>(), "lhr solve: smallest element edge (default h/32)")
       ("max-iterations", po::value<int>(), "lhr solve: iteration limit")
       ("tolerance", po::value<double>(), "lhr solve: convergence tolerance")

@@ -48,6 +48,8 @@ int mesh_scene(const po::variables_map& vm, const std::filesystem::path& out_pat
                         to_byte(material.reflectance[2])};
     }
   }
+  out.colour_meaning = "the surface's reflectance Kd, 8 bit, linear";
+  out.radiance_meaning = "the surface's emitted radiance Ke (the mesh is not lit)";
   if (progress) std::cerr << "\n";
   // Staged, then checked for a signal that came during the write: an
   // interrupted run leaves neither a temporary nor a new file.

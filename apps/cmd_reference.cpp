@@ -50,7 +50,7 @@ int run_reference(const Args& args) {
       ("spp", po::value<int>()->default_value(64),
        "samples per pixel or vertex (the first round's with --target-noise)")
       ("seed", po::value<std::uint64_t>()->default_value(1), "random seed; same seed, same image")
-      ("target-noise", po::value<double>()->default_value(0.0),
+      ("target-noise", double_value(0.0),
        "keep doubling the samples until the relative noise (RMS standard error of the pixel or vertex "
        "means over their mean luminance) is at most this, e.g. 0.01 (0: render --spp samples)")
       ("max-spp", po::value<int>()->default_value(1024),

@@ -1,3 +1,4 @@
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -27,8 +28,10 @@ int run_scene(const Args& args) {
   if (!vm.count("name")) throw po::error("missing scene NAME (one of: " + names + ")");
   const std::string name = vm["name"].as<std::string>();
   const GeneratedScene scene = generate_scene(name);
-  check_output_directory(vm["out-dir"].as<std::string>());
-  write_scene_files(scene, vm["out-dir"].as<std::string>(), name);
+  // Created as `lhr solve` creates its --out.
+  const std::filesystem::path out_dir = vm["out-dir"].as<std::string>();
+  prepare_output_directory(out_dir);
+  write_scene_files(scene, out_dir, name);
   std::cerr << "lhr scene: wrote " << name << ".obj, " << name << ".mtl, " << name << ".scene.json ("
             << scene.soup.faces.size() << " faces)\n";
   return kExitOk;

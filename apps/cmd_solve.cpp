@@ -44,17 +44,17 @@ int run_solve(const Args& args) {
       ("method", po::value<std::string>()->default_value("linear"),
        "solver: linear (the paper's linear hierarchical radiosity with the image-space refinement criterion) "
        "or classical (Hanrahan et al. 1991, constant elements, BF refinement)")
-      ("eps-pixel", po::value<double>()->default_value(LinearOptions{}.eps_pixel, "0.3"),
+      ("eps-pixel", double_value(LinearOptions{}.eps_pixel),
        "linear: split a receiver edge when its display error times the pixels it covers reaches this (paper 4.1)")
-      ("eps-link", po::value<double>()->default_value(LinearOptions{}.eps_link),
+      ("eps-link", double_value(LinearOptions{}.eps_link),
        "linear: refine a link when its reflected contribution, relative to the adaptation luminance, times the "
        "pixels of the receiving node reaches this (paper 4.2), or when the error of its shooter element's values, "
        "summed over the pixels of every node linked to that element, does")
-      ("vis-threshold", po::value<double>()->default_value(LinearOptions{}.vis_threshold, "0.1"),
+      ("vis-threshold", double_value(LinearOptions{}.vis_threshold),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
-      ("link-power", po::value<double>()->default_value(LinearOptions{}.link_power, "1e-4"),
+      ("link-power", double_value(LinearOptions{}.link_power),
        "linear: a surface starts shooting once its power reaches this fraction of the emitted power")
-      ("eps-bf", po::value<double>()->default_value(ClassicalOptions{}.eps_bf),
+      ("eps-bf", double_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor, or the spread of the shooter's leaves "
        "about its value x form factor, exceeds this fraction of the brightest emitted radiance")
       ("min-edge", po::value<double>(), "smallest element edge (default h/32)")
@@ -72,13 +72,13 @@ int run_solve(const Args& args) {
       ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
        "tumblin-rushmeier (paper ref. 18) or linear; the tone flags override the scene file's "
        "\"tone_map\" block, which overrides these defaults")
-      ("adaptation", po::value<double>()->default_value(0.0),
+      ("adaptation", double_value(0.0),
        "world adaptation luminance for tumblin-rushmeier, scene units (0: log-average the camera sees)")
-      ("units-to-cd", po::value<double>()->default_value(1.0), "cd/m^2 per scene radiance unit")
-      ("white", po::value<double>()->default_value(0.0), "linear tone map: luminance shown as white (0: brightest seen)")
-      ("display-max", po::value<double>()->default_value(100.0), "tumblin-rushmeier: display's maximum luminance, cd/m^2")
-      ("max-contrast", po::value<double>()->default_value(100.0), "tumblin-rushmeier: display's maximum contrast")
-      ("gamma", po::value<double>()->default_value(2.2), "display gamma")
+      ("units-to-cd", double_value(1.0), "cd/m^2 per scene radiance unit")
+      ("white", double_value(0.0), "linear tone map: luminance shown as white (0: brightest seen)")
+      ("display-max", double_value(100.0), "tumblin-rushmeier: display's maximum luminance, cd/m^2")
+      ("max-contrast", double_value(100.0), "tumblin-rushmeier: display's maximum contrast")
+      ("gamma", double_value(2.2), "display gamma")
       ("threads", po::value<int>()->default_value(0), "worker threads (0: all cores); results do not depend on it")
       ("quiet,q", "print nothing but errors")
       ("verbose,v", "print every iteration");
@@ -191,8 +191,19 @@ int run_solve(const Args& args) {
   }
 
   const auto t_output = Clock::now();
-  const SolutionView& view = solution.view;
+  // An iteration limit, not convergence, ends a solve whose light does not
+  // die out (Kd = 1 in a closed scene, docs/robustness.md).
+  const double final_change = solution.stats.value("final_change", 0.0);
+  if (solution.stats.value("iterations", 0) >= max_iterations && !(final_change < tolerance) && !quiet) {
+    std::cerr << "lhr solve: warning: not converged after " << max_iterations
+              << " iterations (largest change " << final_change << ", tolerance " << tolerance
+              << "); the result is the last iteration's\n";
+  }
+
+  SolutionView& view = solution.view;
+  view.export_mesh.colour_meaning = "display colour, tone-mapped " + view.tone_map->describe() + ", not linear";
   nlohmann::json doc = solution.stats;
+  doc["lhr_version"] = LHR_VERSION;
   // Every file is complete on disk before any replaces an earlier one; an
   // interrupt or a failed write until then leaves the earlier set whole.
   try {

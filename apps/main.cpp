@@ -32,7 +32,7 @@ void print_usage(std::ostream& out) {
   for (const Command& c : kCommands) {
     out << "  " << c.name << std::string(10 - std::string(c.name).size(), ' ') << c.summary << "\n";
   }
-  out << "\n'lhr <command> --help' describes a command's options.\n";
+  out << "\n'lhr <command> --help' describes a command's options; 'lhr --version' prints the version.\n";
 }
 
 }  // namespace
@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
     return lhr::app::kExitUsage;
   }
   const std::string name = argv[1];
+  if (name == "--version" || name == "-V") {
+    std::cout << "lhr " << LHR_VERSION << "\n";
+    return lhr::app::kExitOk;
+  }
   if (name == "--help" || name == "-h" || name == "help") {
     print_usage(std::cout);
     return lhr::app::kExitOk;

@@ -2,6 +2,7 @@
 // Shared Boost.Program_options plumbing for subcommands.
 
 #include <boost/program_options.hpp>
+#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <iostream>
@@ -15,6 +16,17 @@
 namespace lhr::app {
 
 namespace po = boost::program_options;
+
+// The shortest text that reads back as v ("2.2", "1e-06"): Boost prints a
+// default through a stream at full precision (2.2000000000000002).
+inline std::string readable(double v) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+  return std::string(text, end);
+}
+
+// A double option whose default --help shows as it was written.
+inline po::typed_value<double>* double_value(double v) { return po::value<double>()->default_value(v, readable(v)); }
 
 // How a command takes its one positional argument (SCENE, FILE, NAME).
 struct Positional {
@@ -48,7 +60,7 @@ inline void add_scene_meshing_options(po::options_description& options) {
       ("max-edge", po::value<double>(),
        "h: longest edge of the initial mesh, in scene units (default: the scene file's, else 1/20 of "
        "the bounding-box diagonal)")
-      ("min-angle", po::value<double>()->default_value(MeshingOptions{}.min_angle_deg),
+      ("min-angle", double_value(MeshingOptions{}.min_angle_deg),
        "smallest angle in degrees the mesher guarantees where the input boundary allows it")
       ("crease-angle", po::value<double>(),
        "degrees between face normals above which an edge separates two surfaces (default 30)");

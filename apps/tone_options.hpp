@@ -18,16 +18,16 @@ inline void add_tone_map_options(po::options_description& options) {
       ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
        "tumblin-rushmeier (paper ref. 18) or linear; the tone flags override the scene file's "
        "\"tone_map\" block, which overrides these defaults")
-      ("adaptation", po::value<double>()->default_value(0.0),
+      ("adaptation", double_value(0.0),
        "world adaptation luminance for tumblin-rushmeier, scene units (0: log-average of the reference's "
        "non-background pixels)")
-      ("units-to-cd", po::value<double>()->default_value(1.0), "cd/m^2 per scene radiance unit")
-      ("white", po::value<double>()->default_value(0.0),
+      ("units-to-cd", double_value(1.0), "cd/m^2 per scene radiance unit")
+      ("white", double_value(0.0),
        "linear tone map: luminance shown as white (0: the reference's brightest pixel)")
-      ("display-max", po::value<double>()->default_value(100.0),
+      ("display-max", double_value(100.0),
        "tumblin-rushmeier: display's maximum luminance, cd/m^2")
-      ("max-contrast", po::value<double>()->default_value(100.0), "tumblin-rushmeier: display's maximum contrast")
-      ("gamma", po::value<double>()->default_value(2.2, "2.2"), "display gamma");
+      ("max-contrast", double_value(100.0), "tumblin-rushmeier: display's maximum contrast")
+      ("gamma", double_value(2.2), "display gamma");
 }
 
 // file_tone: the scene file's block, or nullptr without a scene.

@@ -16,7 +16,9 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -65,6 +67,22 @@ bool read_channel(const OpenMesh::ArrayKernel& kernel, const char* name, std::ve
     return true;
   }
   return false;
+}
+
+// DESIGN §3 output: what the colour and radiance properties mean, in the
+// header where a reader of the file finds it.
+// The PLY header says what its colour and radiance properties are; OpenMesh
+// writes none, so they go in after its format line.
+void add_ply_comments(std::string& bytes, const std::filesystem::path& file, const ExportMesh& mesh) {
+  const std::size_t format = bytes.find("\nformat ");
+  const std::size_t line_end = format == std::string::npos ? format : bytes.find('\n', format + 1);
+  if (line_end == std::string::npos) throw std::runtime_error(file.string() + ": PLY header without a format line");
+  std::string comments = "comment red green blue: " + mesh.colour_meaning + "\n" +
+                         "comment radiance_r radiance_g radiance_b: " + mesh.radiance_meaning + "\n";
+  if (!mesh.radiance_stderr.empty()) {
+    comments += "comment radiance_stderr: standard error of the luminance of the Monte Carlo estimate, same units\n";
+  }
+  bytes.insert(line_end + 1, comments);
 }
 
 void check_export(const std::filesystem::path& path, const ExportMesh& mesh) {
@@ -146,7 +164,11 @@ void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const
   if (ext == ".ply") {
     options += OpenMesh::IO::Options::Binary;
     options += OpenMesh::IO::Options::Custom;
-  } else if (ext != ".off") {
+  } else if (ext == ".off") {
+    // Geomview's OFF gives a COFF vertex colour four components (RGBA);
+    // readers that follow it (assimp) reject three.
+    options += OpenMesh::IO::Options::ColorAlpha;
+  } else {
     throw std::runtime_error(path.string() + ": unknown mesh format '" + path.extension().string() +
                              "' (write .ply or .off)");
   }
@@ -198,9 +220,19 @@ void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const
   // see a failed write or close, and reported a truncated file as written.
   outputs.stage(path, [&](std::ostream& out) {
     const QuietOpenMesh quiet;
-    if (!OpenMesh::IO::write_mesh(om, out, ext, options, kTextPrecision)) {
+    if (ext != ".ply") {
+      if (!OpenMesh::IO::write_mesh(om, out, ext, options, kTextPrecision)) {
+        throw std::runtime_error(path.string() + ": cannot write mesh file");
+      }
+      return;
+    }
+    std::ostringstream buffer;
+    if (!OpenMesh::IO::write_mesh(om, buffer, ext, options, kTextPrecision)) {
       throw std::runtime_error(path.string() + ": cannot write mesh file");
     }
+    std::string bytes = std::move(buffer).str();
+    add_ply_comments(bytes, path, mesh);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   });
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "io/atomic_file.hpp"
@@ -22,6 +23,10 @@ struct ExportMesh {
   // Per vertex: standard error of the luminance of a Monte Carlo estimate
   // (lhr reference --at-vertices), PLY property radiance_stderr; empty = none.
   std::vector<double> radiance_stderr;
+  // What red green blue and radiance_r/g/b hold, written as PLY header
+  // comments (DESIGN §3 output); a command writing something else says so.
+  std::string colour_meaning = "display colour, tone-mapped and gamma-encoded (gamma 2.2), not linear";
+  std::string radiance_meaning = "linear radiance, in the units of the scene's emission Ke";
 };
 
 // Appends a surface's conforming mesh; radiance per mesh vertex may be empty.

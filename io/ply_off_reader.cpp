@@ -331,11 +331,60 @@ void check_binary_ply(const fs::path& path, const std::string& bytes, const PlyH
 
 // -------------------------------------------------------------------- OFF
 
-// ASCII OFF, returned with comments removed so OpenMesh's reader (which does
-// not understand them) sees plain data. The header is rewritten to COFF so
-// that optional per-face colours, legal after the indices of any OFF face,
-// are read instead of being taken for the next face's vertex count.
-std::string check_ascii_off(const fs::path& path, const std::string& text, Declared& declared, FaceIndices faces) {
+// Colours of an ASCII OFF, read here rather than by OpenMesh, whose reader
+// guesses the colour type from the first vertex alone and reads a float
+// COFF (components in [0, 1]) as black.
+struct OffColours {
+  std::vector<std::optional<Rgb>> vertices;
+  std::vector<std::optional<Rgb>> faces;
+};
+
+// The colour components of one vertex or face, still as text.
+struct ColourTokens {
+  int line = 0;
+  std::string what;  // "vertex 3", "face 0"
+  std::vector<std::string_view> tokens;
+};
+
+// Geomview's OFF allows 3 or 4 components (RGB or RGBA, alpha ignored),
+// either integers in 0..255 or floats in 0..1, decided per face colour as
+// the specification says. Vertex colours are decided per file: a file whose
+// colours are written with a decimal point or an exponent anywhere is read
+// as floats throughout, so a float file's "1 0 0" is red, not near-black.
+std::vector<std::optional<Rgb>> decode_colours(const fs::path& path, const std::vector<ColourTokens>& colours,
+                                               std::size_t count, bool per_file) {
+  const auto has_float = [](const ColourTokens& c) {
+    return std::any_of(c.tokens.begin(), c.tokens.end(), [](std::string_view t) { return !parse_int(t); });
+  };
+  const bool file_floats = per_file && std::any_of(colours.begin(), colours.end(), has_float);
+  std::vector<std::optional<Rgb>> out(count);
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    const ColourTokens& c = colours[i];
+    if (c.tokens.empty()) continue;
+    const bool floats = per_file ? file_floats : has_float(c);
+    Rgb rgb;
+    for (std::size_t k = 0; k < c.tokens.size(); ++k) {
+      const std::optional<double> v = parse_double(c.tokens[k]);
+      const bool ok = v && (floats ? (*v >= 0.0 && *v <= 1.0) : (*v >= 0.0 && *v <= 255.0));
+      if (!ok) {
+        throw InputError(path, c.line,
+                         c.what + ": colour component " + show(c.tokens[k]) +
+                             (floats ? " is not a number in [0, 1] (colours with a decimal point are floats)"
+                                     : " is not an integer in 0..255"));
+      }
+      if (k < 3) rgb[k] = floats ? *v : *v / 255.0;
+    }
+    out[i] = rgb;
+  }
+  return out;
+}
+
+// ASCII OFF, returned as plain OFF (coordinates and vertex indices only,
+// comments removed) for OpenMesh's reader, which does not understand
+// comments; normals, texture coordinates and colours are checked here and
+// the colours returned in colours.
+std::string check_ascii_off(const fs::path& path, const std::string& text, Declared& declared, FaceIndices faces,
+                            OffColours& colours) {
   text::require_text(path, text);
   const std::vector<Line> lines = text::tokenize(text, true);
   if (lines.empty()) throw InputError(path, "empty file");
@@ -349,6 +398,9 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
   if (flags.find('4') != std::string::npos || flags.find('n') != std::string::npos) {
     throw InputError(path, head.number, show(magic) + " (homogeneous or n-dimensional OFF) is not supported");
   }
+  const bool texcoords = flags.find("ST") != std::string::npos;
+  const bool coloured = flags.find('C') != std::string::npos;
+  const bool normals = flags.find('N') != std::string::npos;
   std::vector<std::string_view> counts(head.tokens.begin() + 1, head.tokens.end());
   int counts_line = head.number;
   if (counts.empty()) {
@@ -371,15 +423,38 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
   }
   declared = {*nv, *nf};
   std::ostringstream clean;
-  if (flags.find('C') == std::string::npos)
-    flags.insert(flags.find("N") == std::string::npos ? flags.size() : flags.find('N'), "C");
-  clean << flags << "OFF\n" << *nv << ' ' << *nf << " 0\n";
+  clean << "OFF\n" << *nv << ' ' << *nf << " 0\n";
+  // A vertex is x y z, then a normal, a colour and a texture coordinate, in
+  // that order, as the header's N, C and ST prefixes declare.
+  const std::size_t fixed = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0);
+  std::vector<ColourTokens> vertex_colours;
   for (long long i = 0; i < *nv; ++i) {
     const Line& line = lines[next++];
-    text::finite_xyz(path, line, 0, "vertex " + std::to_string(i));
-    for (std::string_view t : line.tokens) clean << t << ' ';
-    clean << '\n';
+    const std::string what = "vertex " + std::to_string(i);
+    text::finite_xyz(path, line, 0, what);
+    const std::size_t n = line.tokens.size();
+    const std::size_t colour = n >= fixed ? n - fixed : 0;
+    // Without a C prefix, three or four extra values are still a colour:
+    // many writers add one without saying so.
+    if (n < fixed || (coloured && colour != 3 && colour != 4) || (colour != 0 && colour != 3 && colour != 4)) {
+      throw InputError(path, line.number,
+                       what + ": " + std::to_string(n) + " values; " + show(magic) + " needs " +
+                           std::to_string(fixed) + (coloured ? " plus 3 or 4 colour components" : "") +
+                           " (x y z" + (normals ? ", a normal" : "") + (coloured ? ", a colour" : "") +
+                           (texcoords ? ", s t" : "") + ")");
+    }
+    for (std::size_t k = 3; k < n; ++k) {
+      if (!parse_double(line.tokens[k])) {
+        throw InputError(path, line.number, what + ": " + show(line.tokens[k]) + " is not a number");
+      }
+    }
+    const std::size_t first = 3 + (normals ? 3 : 0);
+    vertex_colours.push_back({line.number, what,
+                              std::vector<std::string_view>(line.tokens.begin() + first,
+                                                            line.tokens.begin() + first + colour)});
+    clean << line.tokens[0] << ' ' << line.tokens[1] << ' ' << line.tokens[2] << '\n';
   }
+  std::vector<ColourTokens> face_colours;
   for (long long i = 0; i < *nf; ++i) {
     const Line& line = lines[next++];
     const ErrorAt error = [&](const std::string& problem) {
@@ -403,9 +478,25 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
                            [](long long v) { return v < -kMaxInt || v > kMaxInt; })) {
       throw error("vertex index out of the range of int");
     }
-    for (std::string_view t : line.tokens) clean << t << ' ';
+    // The colour runs to the end of the line: nothing, a colour-map index
+    // (no colour map is read, so the face keeps its vertices' colour), or
+    // 3 or 4 components.
+    std::vector<std::string_view> colour(line.tokens.begin() + 1 + *n, line.tokens.end());
+    if (colour.size() == 2 || colour.size() > 4) {
+      throw error(std::to_string(colour.size()) +
+                  " values after the indices; a face colour is 1 (a colour-map index), 3 or 4 numbers");
+    }
+    if (colour.size() == 1) {
+      if (!parse_int(colour[0])) throw error(show(colour[0]) + " is not a colour-map index");
+      colour.clear();
+    }
+    face_colours.push_back({line.number, "face " + std::to_string(i), colour});
+    clean << *n;
+    for (long long k = 1; k <= *n; ++k) clean << ' ' << line.tokens[k];
     clean << '\n';
   }
+  colours.vertices = decode_colours(path, vertex_colours, static_cast<std::size_t>(*nv), true);
+  colours.faces = decode_colours(path, face_colours, static_cast<std::size_t>(*nf), false);
   return clean.str();
 }
 
@@ -507,13 +598,21 @@ void read_ply_off(const fs::path& path, PlainImporter& importer, FaceIndices fac
       const std::size_t newline = bytes.find('\n');
       const bool binary =
           newline != std::string::npos && bytes.substr(0, newline).find("BINARY") != std::string::npos;
+      std::optional<OffColours> colours;
       const std::string data = binary ? check_binary_off(path, bytes, declared, faces)
-                                      : check_ascii_off(path, bytes, declared, faces);
+                                      : check_ascii_off(path, bytes, declared, faces, colours.emplace());
       // OpenMesh's OFF reader learns the header flags (colours, binary) only
       // when it opens a file by name; its stream entry point skips that step.
       const TempFile temp(data, ".off");
-      const QuietOpenMesh quiet;
-      ok = OpenMesh::IO::IOManager().read(temp.path().string(), importer, options);
+      {
+        const QuietOpenMesh quiet;
+        ok = OpenMesh::IO::IOManager().read(temp.path().string(), importer, options);
+      }
+      if (ok && colours && importer.points.size() == colours->vertices.size() &&
+          importer.faces.size() == colours->faces.size()) {
+        importer.vertex_colours = std::move(colours->vertices);
+        importer.face_colours = std::move(colours->faces);
+      }
     }
   } catch (const ImportAborted& abort) {
     throw InputError(path, abort.problem);

@@ -24,7 +24,9 @@ struct LoadResult {
 
 LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
 
-// The polygon soup of one geometry file (OBJ with its MTL, PLY, OFF), validated.
-PolygonSoup load_polygon_soup(const std::filesystem::path& path);
+// The polygon soup of one geometry file (OBJ with its MTL, PLY, OFF),
+// validated; what is accepted but worth knowing (ignored MTL keys,
+// reflectance 1, a missing texture) is added to warnings when given.
+PolygonSoup load_polygon_soup(const std::filesystem::path& path, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace lhr

@@ -52,6 +52,11 @@ std::string read_file(const fs::path& path) {
   return ss.str();
 }
 
+std::string without_bom(std::string text) {
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  return text;
+}
+
 void require_text(const fs::path& path, std::string_view text) {
   int line = 1;
   for (unsigned char c : text) {

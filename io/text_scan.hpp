@@ -24,6 +24,9 @@ std::string extension_of(const std::filesystem::path& path);
 std::string show(std::string_view s);
 
 std::string read_file(const std::filesystem::path& path);
+// text without a leading UTF-8 byte-order mark: Windows editors write one,
+// and it would glue itself to the first keyword of an OBJ or MTL.
+std::string without_bom(std::string text);
 
 // Text formats never contain NUL or most other control bytes; finding one
 // means binary data (a wrong or corrupt file), which the parsers would

@@ -105,10 +105,38 @@ std::vector<BadInput> cases() {
        {{"box.obj", box_mtl_use + cube}, {"box.mtl", "newmtl m\nKd 1.2 0.5 0.5\n"}},
        "box.mtl:2",
        "Kd"},
-      {"kd_one",
-       {{"box.obj", box_mtl_use + cube}, {"box.mtl", "newmtl m\nKd 0.5 1 0.5\n"}},
+      {"kd_negative",
+       {{"box.obj", box_mtl_use + cube}, {"box.mtl", "newmtl m\nKd 0.5 -0.1 0.5\n"}},
        "box.mtl:2",
-       "[0, 1)"},
+       "outside [0, 1]"},
+      {"vt_index_out_of_range",
+       {{"vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/3\n"}},
+       "vt.obj:6",
+       "texture coordinate index 3 out of range (2 vt lines)"},
+      {"vn_index_out_of_range",
+       {{"vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//-2\n"}},
+       "vn.obj:5",
+       "normal index -2 out of range (1 vn lines)"},
+      {"mtllib_with_space_missing",
+       {{"box.obj", "mtllib my room.mtl\n" + cube}},
+       "box.obj:1",
+       "'my room.mtl' not found"},
+      {"off_colour_byte_out_of_range",
+       {{"tri.off", "COFF\n3 1 0\n0 0 0 255 0 0\n1 0 0 300 0 0\n0 1 0 0 0 0\n3 0 1 2\n"}},
+       "tri.off:4",
+       "0..255"},
+      {"off_float_colour_above_one",
+       {{"tri.off", "COFF\n3 1 0\n0 0 0 1.5 0 0 1\n1 0 0 0 0 0 1\n0 1 0 0 0 0 1\n3 0 1 2\n"}},
+       "tri.off:3",
+       "[0, 1]"},
+      {"coff_vertex_without_colour",
+       {{"tri.off", "COFF\n3 1 0\n0 0 0 1 0 0\n1 0 0\n0 1 0 0 0 0\n3 0 1 2\n"}},
+       "tri.off:4",
+       "3 or 4 colour components"},
+      {"off_face_colour_of_two_values",
+       {{"tri.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0.5 0.5\n"}},
+       "tri.off:6",
+       "a face colour is"},
       {"ke_negative",
        {{"box.obj", box_mtl_use + cube}, {"box.mtl", "newmtl m\nKd 0.5 0.5 0.5\nKe -1 0 0\n"}},
        "box.mtl:3",
@@ -207,6 +235,36 @@ TEST_P(BadInputTest, CommandFailsWithOneLineAndWritesNothing) {
   EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(GetParam().file_in_message), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Kd = 1 is what many files in the wild use (tinyobjloader's cube.obj, the
+// Cornell box): it loads, for every command, with one warning naming the
+// materials; Kd 1.2 is one line naming the MTL line.
+TEST(MaterialRange, KdOneWarnsOnceAndKdAboveOneIsOneLine) {
+  const auto dir = test::fresh_dir("kd_range");
+  test::write_text(dir / "cube.mtl", "newmtl white\nKd 1 1 1\nnewmtl red\nKd 1 0 0\n");
+  test::write_text(dir / "cube.obj", "mtllib cube.mtl\nusemtl white\n" + std::string(kCube).substr(0, 64) +
+                                         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nusemtl red\nf 4 8 7 3\nf 1 5 8 4\n"
+                                         "f 2 3 7 6\n");
+  const auto r = test::run_lhr({"mesh", (dir / "cube.obj").string(), "--out", (dir / "out.ply").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  int warnings = 0;
+  std::string warning;
+  for (std::size_t at = r.err.find("warning"); at != std::string::npos; at = r.err.find("warning", at + 1)) {
+    ++warnings;
+    warning = r.err.substr(at, r.err.find('\n', at) - at);
+  }
+  EXPECT_EQ(warnings, 1) << r.err;
+  EXPECT_NE(warning.find("'white', 'red'"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out.ply"));
+
+  test::write_text(dir / "cube.mtl", "newmtl white\nKd 1.2 1 1\nnewmtl red\nKd 1 0 0\n");
+  const auto bad = test::run_lhr({"mesh", (dir / "cube.obj").string(), "--out", (dir / "bad.ply").string()});
+  EXPECT_EQ(bad.exit_code, 1) << bad.err;
+  EXPECT_EQ(test::count_lines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("cube.mtl:2"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("Kd 1.2"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.ply"));
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, BadInputTest, testing::ValuesIn(cases()),

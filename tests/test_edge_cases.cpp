@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "io/scene_loader.hpp"
 #include "radiosity/classical_solver.hpp"
@@ -121,6 +122,38 @@ TEST(EdgeCases, AlmostWhiteFurnaceConverges) {
   const auto values = solve_linear(scene, 1.0, options, &iterations);
   EXPECT_LT(iterations, 3000) << "converged before the limit";
   for (const Rgb& v : values) EXPECT_NEAR(v[0], 100.0, 1.0);
+}
+
+TEST(EdgeCases, WhiteFurnaceStopsAtTheIterationLimit) {
+  // ρ = 1 (Kd 1 is accepted, DESIGN §3) in a closed box: nothing absorbs,
+  // so each Jacobi iteration adds one more bounce of Le and there is no
+  // fixed point; L after n gathers is Le·(n + 1) where the form factors sum
+  // to 1. Both solvers end at their iteration limit with that finite value.
+  const Scene scene = test::furnace_cube(1.0, 1.0);
+  LinearOptions linear;
+  linear.max_iterations = 20;
+  linear.eps_link = linear.eps_pixel = 1e9;
+  int iterations = 0;
+  const auto values = solve_linear(scene, 1.0, linear, &iterations);
+  EXPECT_EQ(iterations, 20);
+  for (const Rgb& v : values) EXPECT_NEAR(v[0], 21.0, 0.5);
+  ClassicalOptions classical{.eps_bf = 1e9};
+  classical.max_iterations = 20;
+  for (const Rgb& v : solve_classical(scene, 1.0, classical)) EXPECT_NEAR(v[0], 21.0, 0.5);
+}
+
+TEST(EdgeCases, WhiteFurnaceSolveWarnsThatItDidNotConverge) {
+  const auto dir = test::fresh_dir("edge_white_furnace");
+  test::write_text(dir / "white.mtl", "newmtl white\nKd 1 1 1\nKe 1 1 1\n");
+  test::write_text(dir / "white.obj",
+                   "mtllib white.mtl\nusemtl white\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                   "v 1 1 1\nv 0 1 1\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\n");
+  const auto r = test::run_lhr({"solve", (dir / "white.obj").string(), "--out", (dir / "out").string(),
+                                "--max-iterations", "3", "--max-edge", "1", "--threads", "1"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("reflectance 1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not converged after 3 iterations"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
 }
 
 TEST(EdgeCases, LightsAMillionTimesApartStayFinite) {

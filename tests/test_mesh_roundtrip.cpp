@@ -16,13 +16,16 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "io/input_error.hpp"
 #include "io/mesh_io.hpp"
+#include "io/scene_loader.hpp"
 #include "test_support.hpp"
 
 namespace lhr {
@@ -111,6 +114,85 @@ TEST(MeshRoundtrip, OffIsColouredOff) {
   ASSERT_GE(lines.size(), 2u);
   EXPECT_EQ(lines[0], "COFF");
   EXPECT_EQ(lines[1], "7 3 0");
+}
+
+TEST(MeshRoundtrip, OffVertexColoursAreRgbaAsGeomviewSpecifies) {
+  // Geomview's OFF: a COFF vertex is x y z r g b a; assimp refuses three
+  // components.
+  const auto dir = test::fresh_dir("roundtrip_off_rgba");
+  const ExportMesh m = sample_export();
+  write_mesh(dir / "m.off", m);
+  const auto lines = lines_of(test::read_text(dir / "m.off"));
+  ASSERT_GE(lines.size(), 2 + m.points.size());
+  for (std::size_t v = 0; v < m.points.size(); ++v) {
+    std::istringstream in(lines[2 + v]);
+    std::vector<double> values;
+    for (double x; in >> x;) values.push_back(x);
+    ASSERT_EQ(values.size(), 7u) << lines[2 + v];
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(values[3 + k], m.colours[v][k]) << lines[2 + v];
+    EXPECT_EQ(values[6], 255.0) << "opaque: " << lines[2 + v];
+  }
+}
+
+TEST(MeshRoundtrip, OffColoursReadBackAsWritten) {
+  // Two separate triangles of one colour each: the loader turns each face's
+  // colour into a material named after its 8-bit value.
+  const auto dir = test::fresh_dir("roundtrip_off_colours");
+  ExportMesh m;
+  m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  m.triangles = {{0, 1, 2}, {3, 4, 5}};
+  m.colours = {{200, 100, 50}, {200, 100, 50}, {200, 100, 50}, {10, 20, 30}, {10, 20, 30}, {10, 20, 30}};
+  write_mesh(dir / "m.off", m);
+  const PolygonSoup soup = load_polygon_soup(dir / "m.off");
+  ASSERT_EQ(soup.faces.size(), 2u);
+  EXPECT_EQ(soup.materials[soup.faces[0].material].name, "rgb_c86432");
+  EXPECT_EQ(soup.materials[soup.faces[1].material].name, "rgb_0a141e");
+}
+
+TEST(MeshRoundtrip, PlyHeaderCommentsSayWhatTheColoursAndRadianceAre) {
+  const auto dir = test::fresh_dir("roundtrip_ply_comments");
+  ExportMesh m = sample_export();
+  write_mesh(dir / "default.ply", m);
+  const std::string header = ply_header(dir / "default.ply");
+  EXPECT_NE(header.find("\ncomment red green blue: display colour, tone-mapped and gamma-encoded (gamma 2.2)"),
+            std::string::npos)
+      << header;
+  EXPECT_NE(header.find("\ncomment radiance_r radiance_g radiance_b: linear radiance, in the units of the "
+                        "scene's emission Ke\n"),
+            std::string::npos)
+      << header;
+  m.colour_meaning = "reflectance";
+  m.radiance_stderr.assign(m.points.size(), 0.5);
+  write_mesh(dir / "custom.ply", m);
+  const std::string custom = ply_header(dir / "custom.ply");
+  EXPECT_NE(custom.find("\ncomment red green blue: reflectance\n"), std::string::npos) << custom;
+  EXPECT_NE(custom.find("\ncomment radiance_stderr: "), std::string::npos) << custom;
+  // Comments sit between the format line and the first element, and the
+  // binary body after them is intact.
+  EXPECT_LT(custom.find("format binary_little_endian 1.0\ncomment"), custom.find("element vertex"));
+  const RawMesh raw = read_raw_mesh(dir / "custom.ply");
+  ASSERT_EQ(raw.radiance_stderr.size(), m.points.size());
+  EXPECT_EQ(raw.radiance_stderr[6], 0.5);
+  expect_near_relative(raw.radiance[2], m.radiance[2], 1e-6, "radiance after the comments");
+}
+
+// assimp (assimp-utils, tools/install-deps.sh) follows the OFF and PLY
+// specifications strictly; our files must load there.
+TEST(MeshRoundtrip, AssimpImportsOffAndPly) {
+  if (std::system("command -v assimp >/dev/null 2>&1") != 0) GTEST_SKIP() << "assimp (assimp-utils) not installed";
+  const auto dir = test::fresh_dir("roundtrip_assimp");
+  const ExportMesh m = sample_export();
+  for (const char* name : {"m.off", "m.ply"}) {
+    SCOPED_TRACE(name);
+    write_mesh(dir / name, m);
+    const fs::path log = dir / (std::string(name) + ".log");
+    const std::string command = "assimp info '" + (dir / name).string() + "' > '" + log.string() + "' 2>&1";
+    EXPECT_EQ(std::system(command.c_str()), 0) << test::read_text(log);
+    const std::string info = test::read_text(log);
+    EXPECT_EQ(info.find("ERROR"), std::string::npos) << info;
+    // Three triangles in one mesh (assimp may join or split vertices).
+    EXPECT_NE(info.find(" / 3 | triangle]"), std::string::npos) << info;
+  }
 }
 
 TEST(MeshRoundtrip, RawReadGivesBackPointsTrianglesAndRadiance) {

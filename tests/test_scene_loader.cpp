@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "io/image_io.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/surfaces.hpp"
 #include "test_support.hpp"
@@ -323,8 +325,8 @@ TEST(SceneLoader, PlyFaceColoursBecomeMaterials) {
   ASSERT_EQ(scene.surfaces.size(), 2u);
   const Material& red = scene.materials.at(scene.surfaces[0].material);
   const Material& blue = scene.materials.at(scene.surfaces[1].material);
-  // 255 would be reflectance 1, which the contract forbids.
-  EXPECT_NEAR(red.reflectance[0], 0.99, 1e-12);
+  // 8-bit white is reflectance 1, as Kd 1 in an MTL.
+  EXPECT_EQ(red.reflectance[0], 1.0);
   EXPECT_EQ(red.reflectance[1], 0.0);
   EXPECT_NEAR(blue.reflectance[1], 0.2, 1e-12);
   EXPECT_NEAR(blue.reflectance[2], 0.4, 1e-12);
@@ -382,11 +384,65 @@ TEST(SceneLoader, OffFaceColoursBecomeMaterials) {
   ASSERT_EQ(scene.surfaces.size(), 2u);
   const Material& green = scene.materials.at(scene.surfaces[0].material);
   const Material& other = scene.materials.at(scene.surfaces[1].material);
-  EXPECT_NEAR(green.reflectance[1], 0.99, 1e-12);
+  EXPECT_EQ(green.reflectance[1], 1.0);
   EXPECT_EQ(green.reflectance[0], 0.0);
   EXPECT_NEAR(other.reflectance[0], 51.0 / 255.0, 1e-12);
   EXPECT_NEAR(other.reflectance[2], 153.0 / 255.0, 1e-12);
   EXPECT_EQ(scene.surfaces[0].name, "square/rgb_00ff00#0");
+}
+
+// Geomview's OFF: a vertex is x y z [normal] [colour] [s t] as the header's
+// N, C and ST prefixes say; a colour has 3 or 4 components, integers in
+// 0..255 or floats in 0..1. Two separate triangles, one colour each: the
+// loader names a face's material after its colour's 8-bit value.
+struct OffVariant {
+  const char* name;
+  const char* header;
+  const char* extra_before;  // normal, between x y z and the colour
+  const char* first;         // colour of the first triangle's vertices
+  const char* second;
+  const char* extra_after;   // texture coordinate
+  const char* want_first;
+  const char* want_second;
+};
+
+TEST(SceneLoader, EveryOffVertexColourTheSpecificationAllows) {
+  const OffVariant variants[] = {
+      {"rgb_bytes", "COFF", "", "255 128 0", "0 0 255", "", "rgb_ff8000", "rgb_0000ff"},
+      {"rgba_bytes", "COFF", "", "255 128 0 255", "0 0 255 255", "", "rgb_ff8000", "rgb_0000ff"},
+      // A float file whose first colour has no decimal point is still floats.
+      {"rgb_floats", "COFF", "", "1 0 0", "0 0.2 1", "", "rgb_ff0000", "rgb_0033ff"},
+      {"rgba_floats", "COFF", "", "1.0 0.5 0.0 1.0", "0.0 0.0 1.0 0.5", "", "rgb_ff8000", "rgb_0000ff"},
+      {"normals", "CNOFF", "0 0 1 ", "0.2 0.4 0.6 1", "1 1 1 1", "", "rgb_336699", "rgb_ffffff"},
+      {"texcoords", "STCNOFF", "0 0 1 ", "51 102 153", "0 0 0", " 0.5 0.5", "rgb_336699", "rgb_000000"},
+      {"no_c_prefix", "OFF", "", "51 102 153", "0 0 0", "", "rgb_336699", "rgb_000000"},
+  };
+  const char* const points[6] = {"0 0 0", "1 0 0", "0 1 0", "0 0 1", "1 0 1", "0 1 1"};
+  for (const OffVariant& v : variants) {
+    SCOPED_TRACE(v.name);
+    std::string off = std::string(v.header) + "\n6 2 0\n";
+    for (int i = 0; i < 6; ++i) {
+      off += std::string(points[i]) + " " + v.extra_before + (i < 3 ? v.first : v.second) + v.extra_after + "\n";
+    }
+    off += "3 0 1 2\n3 3 4 5\n";
+    const PolygonSoup soup = load_polygon_soup(write(std::string("off_variant_") + v.name, "t.off", off));
+    ASSERT_EQ(soup.faces.size(), 2u);
+    EXPECT_EQ(soup.materials[soup.faces[0].material].name, v.want_first);
+    EXPECT_EQ(soup.materials[soup.faces[1].material].name, v.want_second);
+  }
+}
+
+TEST(SceneLoader, OffFaceColourForms) {
+  // After a face's indices: RGBA bytes or floats, or a colour-map index
+  // (no colour map is read: the face keeps its vertices' colour).
+  const std::string off =
+      "COFF\n6 3 0\n0 0 0 10 20 30\n1 0 0 10 20 30\n0 1 0 10 20 30\n0 0 1 10 20 30\n1 0 1 10 20 30\n"
+      "0 1 1 10 20 30\n3 0 1 2 51 102 153 255\n3 3 4 5 0.2 0.4 0.6 0.5\n3 0 2 5 7\n";
+  const PolygonSoup soup = load_polygon_soup(write("off_face_colours", "t.off", off));
+  ASSERT_EQ(soup.faces.size(), 3u);
+  EXPECT_EQ(soup.materials[soup.faces[0].material].name, "rgb_336699");
+  EXPECT_EQ(soup.materials[soup.faces[1].material].name, "rgb_336699");
+  EXPECT_EQ(soup.materials[soup.faces[2].material].name, "rgb_0a141e");
 }
 
 TEST(SceneLoader, PlainOffWithoutColoursIsGrey) {
@@ -427,6 +483,138 @@ TEST(SurfaceSplit, SlightlyBentSurfaceIsNotPlanar) {
   ASSERT_EQ(split.surfaces.size(), 1u);
   EXPECT_FALSE(split.surfaces[0].planar);
   EXPECT_EQ(split_into_surfaces(soup, 1.0).surfaces.size(), 2u);
+}
+
+// ---------------------------------------------------------------------------
+// Materials from the wild: Kd 1, textures, ignored keys, file names with
+// spaces, byte-order marks.
+
+const char* const kLitQuads =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+    "o a\nusemtl a\nf 1 2 3 4\no b\nusemtl b\nf 2 5 6 3\n";
+
+std::vector<std::string> matching(const std::vector<std::string>& warnings, const std::string& fragment) {
+  std::vector<std::string> out;
+  for (const std::string& w : warnings) {
+    if (w.find(fragment) != std::string::npos) out.push_back(w);
+  }
+  return out;
+}
+
+TEST(SceneLoader, KdOneIsAcceptedWithOneWarningNamingTheMaterials) {
+  const auto dir = fresh_dir("kd_one");
+  write_text(dir / "m.mtl", "newmtl a\nKd 1 1 1\nnewmtl b\nKd 0.5 1.0 0.5\n");
+  write_text(dir / "m.obj", std::string("mtllib m.mtl\n") + kLitQuads);
+  const LoadResult loaded = load_scene(dir / "m.obj");
+  ASSERT_EQ(loaded.scene.surfaces.size(), 2u);
+  EXPECT_EQ(loaded.scene.materials.at(loaded.scene.surfaces[0].material).reflectance, Rgb(1, 1, 1));
+  EXPECT_EQ(loaded.scene.materials.at(loaded.scene.surfaces[1].material).reflectance, Rgb(0.5, 1, 0.5));
+  const auto white = matching(loaded.warnings, "reflectance 1");
+  ASSERT_EQ(white.size(), 1u) << ::testing::PrintToString(loaded.warnings);
+  EXPECT_NE(white[0].find("'a', 'b'"), std::string::npos) << white[0];
+  EXPECT_EQ(white[0].find('\n'), std::string::npos);
+}
+
+TEST(SceneLoader, PlyWhiteIsReflectanceOneWithTheSameWarning) {
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0 255 255 255\n1 0 0 255 255 255\n0 1 0 255 255 255\n3 0 1 2\n";
+  const LoadResult loaded = load_scene(write("ply_white", "w.ply", ply));
+  EXPECT_EQ(loaded.scene.materials.at(loaded.scene.surfaces[0].material).reflectance, Rgb(1, 1, 1));
+  const auto white = matching(loaded.warnings, "reflectance 1");
+  ASSERT_EQ(white.size(), 1u) << ::testing::PrintToString(loaded.warnings);
+  EXPECT_NE(white[0].find("'rgb_ffffff'"), std::string::npos) << white[0];
+}
+
+TEST(SceneLoader, TextureWithoutKdGivesTheTexturesMeanColour) {
+  const auto dir = fresh_dir("map_kd");
+  // An 8-bit PNG is sRGB-encoded: 0 and 1 decode to 0 and 1, so the mean of
+  // red, blue, white and black is (0.5, 0.25, 0.5) exactly.
+  Image png(2, 2);
+  const float pixels[4][3] = {{1, 0, 0}, {0, 0, 1}, {1, 1, 1}, {0, 0, 0}};
+  for (int i = 0; i < 4; ++i) std::copy(pixels[i], pixels[i] + 3, png.pixel(i % 2, i / 2));
+  write_image(dir / "wood grain.png", png);
+  // An EXR is linear: 0.25 and 0.75 (exact in half floats) average to 0.5.
+  Image exr(2, 1);
+  std::fill(exr.pixel(0, 0), exr.pixel(0, 0) + 3, 0.25f);
+  std::fill(exr.pixel(1, 0), exr.pixel(1, 0) + 3, 0.75f);
+  write_image(dir / "grey.exr", exr);
+  write_text(dir / "m.mtl",
+             "newmtl a\nmap_Kd -s 1 1 1 wood grain.png\n"
+             "newmtl b\nmap_Kd grey.exr\n");
+  write_text(dir / "m.obj", std::string("mtllib m.mtl\n") + kLitQuads);
+  const LoadResult loaded = load_scene(dir / "m.obj");
+  const Scene& scene = loaded.scene;
+  ASSERT_EQ(scene.surfaces.size(), 2u);
+  const Rgb a = scene.materials.at(scene.surfaces[0].material).reflectance;
+  const Rgb b = scene.materials.at(scene.surfaces[1].material).reflectance;
+  EXPECT_LT((a - Rgb(0.5, 0.25, 0.5)).norm(), 1e-6) << a;
+  EXPECT_LT((b - Rgb(0.5, 0.5, 0.5)).norm(), 1e-6) << b;
+  EXPECT_TRUE(loaded.warnings.empty()) << ::testing::PrintToString(loaded.warnings);
+}
+
+TEST(SceneLoader, MissingTextureWithoutKdIsGreyWithAWarning) {
+  const auto dir = fresh_dir("map_kd_missing");
+  write_text(dir / "m.mtl", "newmtl a\nmap_Kd gone.png\nnewmtl b\nKd 0.2 0.2 0.2\nmap_Kd gone.png\n");
+  write_text(dir / "m.obj", std::string("mtllib m.mtl\n") + kLitQuads);
+  const LoadResult loaded = load_scene(dir / "m.obj");
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.materials.at(scene.surfaces[0].material).reflectance, Rgb(0.5, 0.5, 0.5));
+  // Kd wins over a texture, missing or not.
+  EXPECT_LT((scene.materials.at(scene.surfaces[1].material).reflectance - Rgb(0.2, 0.2, 0.2)).norm(), 1e-12);
+  ASSERT_EQ(loaded.warnings.size(), 1u) << ::testing::PrintToString(loaded.warnings);
+  EXPECT_NE(loaded.warnings[0].find("m.mtl:1"), std::string::npos) << loaded.warnings[0];
+  EXPECT_NE(loaded.warnings[0].find("gone.png"), std::string::npos) << loaded.warnings[0];
+  EXPECT_NE(loaded.warnings[0].find("grey 0.5"), std::string::npos) << loaded.warnings[0];
+}
+
+TEST(SceneLoader, IgnoredMtlKeysAreSummarisedInOneWarning) {
+  const auto dir = fresh_dir("mtl_ignored");
+  // What Blender's OBJ exporter writes for a Principled BSDF.
+  write_text(dir / "m.mtl",
+             "# Blender MTL File\nnewmtl a\nNs 250.0\nKa 1.0 1.0 1.0\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\n"
+             "Ke 0.0 0.0 0.0\nNi 1.45\nd 1.0\nillum 2\n\nnewmtl b\nNs 10\nKd 0.1 0.1 0.1\nillum 2\n");
+  write_text(dir / "m.obj", std::string("mtllib m.mtl\n") + kLitQuads);
+  const LoadResult loaded = load_scene(dir / "m.obj");
+  ASSERT_EQ(loaded.warnings.size(), 1u) << ::testing::PrintToString(loaded.warnings);
+  EXPECT_NE(loaded.warnings[0].find("Ns, Ka, Ks, Ni, d, illum"), std::string::npos) << loaded.warnings[0];
+  EXPECT_NE(loaded.warnings[0].find("m.mtl"), std::string::npos) << loaded.warnings[0];
+  EXPECT_LT((loaded.scene.materials.at(loaded.scene.surfaces[0].material).reflectance - Rgb(0.8, 0.8, 0.8)).norm(),
+            1e-12);
+}
+
+TEST(SceneLoader, MtllibNamesWithSpacesAndSeveralOnOneLine) {
+  const auto dir = fresh_dir("mtllib_spaces");
+  write_text(dir / "my room.mtl", "newmtl a\nKd 0.25 0.5 0.75\n");
+  write_text(dir / "first.mtl", "newmtl a\nKd 0.25 0.5 0.75\n");
+  write_text(dir / "second.mtl", "newmtl b\nKd 0.1 0.2 0.3\n");
+  write_text(dir / "spaces.obj", std::string("mtllib my room.mtl\nmtllib second.mtl\n") + kLitQuads);
+  write_text(dir / "two.obj", std::string("mtllib first.mtl second.mtl\n") + kLitQuads);
+  for (const char* name : {"spaces.obj", "two.obj"}) {
+    SCOPED_TRACE(name);
+    const Scene scene = load_scene(dir / name).scene;
+    ASSERT_EQ(scene.surfaces.size(), 2u);
+    EXPECT_LT((scene.materials.at(scene.surfaces[0].material).reflectance - Rgb(0.25, 0.5, 0.75)).norm(), 1e-12);
+    EXPECT_LT((scene.materials.at(scene.surfaces[1].material).reflectance - Rgb(0.1, 0.2, 0.3)).norm(), 1e-12);
+  }
+}
+
+TEST(SceneLoader, ByteOrderMarksAreSkipped) {
+  const auto dir = fresh_dir("bom");
+  const std::string bom = "\xEF\xBB\xBF";
+  write_text(dir / "m.mtl", bom + "newmtl a\nKd 0.25 0.5 0.75\nnewmtl b\nKd 0.1 0.2 0.3\n");
+  write_text(dir / "n.obj", bom + std::string("mtllib m.mtl\n") + kLitQuads);
+  const Scene scene = load_scene(dir / "n.obj").scene;
+  ASSERT_EQ(scene.surfaces.size(), 2u);
+  EXPECT_LT((scene.materials.at(scene.surfaces[0].material).reflectance - Rgb(0.25, 0.5, 0.75)).norm(), 1e-12);
+  EXPECT_LT((scene.materials.at(scene.surfaces[1].material).reflectance - Rgb(0.1, 0.2, 0.3)).norm(), 1e-12);
+  // Here the BOM sits before the first vertex, which would otherwise be lost.
+  write_text(dir / "plain.obj", bom + std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  const PolygonSoup soup = load_polygon_soup(dir / "plain.obj");
+  ASSERT_EQ(soup.points.size(), 3u);
+  EXPECT_EQ(soup.points[0], Vec3(0, 0, 0));
 }
 
 }  // namespace

@@ -5,6 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <regex>
+#include <string>
+
 #include "io/image_io.hpp"
 #include "io/mesh_io.hpp"
 #include "mesh/validate.hpp"
@@ -21,6 +25,42 @@ std::vector<std::string> quick_cornell(const std::string& out, int threads, cons
 }
 
 const char* const kMethods[] = {"linear", "classical"};
+
+// The VERSION of project() in the top CMakeLists.txt, read independently.
+std::string project_version() {
+  const std::string cmake = test::read_text(test::source_dir() / "CMakeLists.txt");
+  std::smatch m;
+  if (!std::regex_search(cmake, m, std::regex(R"(project\(lhr VERSION ([0-9.]+))"))) return "not found";
+  return m[1];
+}
+
+TEST(Command, VersionIsTheProjectVersion) {
+  const auto r = test::run_lhr({"--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "lhr " + project_version() + "\n");
+}
+
+TEST(Command, HelpShowsDefaultsAsWritten) {
+  // Boost prints a double default at full precision: 2.2000000000000002.
+  for (const char* command : {"solve", "mesh", "validate", "reference", "compare", "bench", "scene"}) {
+    SCOPED_TRACE(command);
+    const auto r = test::run_lhr({command, "--help"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out.find("00000"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("99999"), std::string::npos) << r.out;
+  }
+  const auto solve = test::run_lhr({"solve", "--help"});
+  EXPECT_NE(solve.out.find("(=2.2)"), std::string::npos) << solve.out;
+  const auto validate = test::run_lhr({"validate", "--help"});
+  EXPECT_NE(validate.out.find("(=1e-06)"), std::string::npos) << validate.out;
+}
+
+TEST(Command, SceneCreatesItsOutputDirectory) {
+  const auto dir = test::fresh_dir("scene_out_dir") / "not" / "yet";
+  const auto r = test::run_lhr({"scene", "two-rooms", "--out-dir", dir.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "two-rooms.scene.json"));
+}
 
 nlohmann::json without_timings(nlohmann::json stats) {
   stats.erase("seconds");
@@ -44,12 +84,18 @@ TEST(SolveCommand, WritesTheFiveOutputsWithTheirContracts) {
     check.relative_tolerance = 1e-6;  // coordinates went through float storage
     const auto violations = check_conforming_mesh(mesh, check);
     EXPECT_TRUE(violations.empty()) << (violations.empty() ? "" : format_violation(violations.front()));
-    const std::string header = test::read_text(dir / "c" / "mesh.ply").substr(0, 400);
+    const std::string ply = test::read_text(dir / "c" / "mesh.ply");
+    const std::string header = ply.substr(0, ply.find("end_header"));
     for (const char* property : {"property uchar red", "property uchar green", "property uchar blue",
                                  "property float radiance_r", "property float radiance_g",
                                  "property float radiance_b"}) {
       EXPECT_NE(header.find(property), std::string::npos) << property;
     }
+    // The header says what the colours are, with the tone map actually used.
+    EXPECT_NE(header.find("comment red green blue: display colour, tone-mapped tumblin-rushmeier ("),
+              std::string::npos)
+        << header;
+    EXPECT_NE(header.find("gamma 2.2)"), std::string::npos) << header;
     // The light is seen: the brightest pixel is the light's radiance (Ke 17 12 4)
     // plus the little it reflects (Kd 0.78 of the dim room around it).
     const Image exr = read_image(dir / "c" / "image.exr");
@@ -61,6 +107,7 @@ TEST(SolveCommand, WritesTheFiveOutputsWithTheirContracts) {
     EXPECT_EQ(stats["method"], method);
     EXPECT_GT(stats["links"].get<long>(), 0);
     EXPECT_EQ(stats["exported_triangles"].get<std::size_t>(), mesh.faces.size());
+    EXPECT_EQ(stats.value("lhr_version", std::string()), project_version());
   }
 }
 

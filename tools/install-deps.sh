@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(build-essential cmake pkg-config
   libopenmesh-dev libcgal-dev libembree-dev libopenimageio-dev
   libboost-program-options-dev libtbb-dev libtinyobjloader-dev nlohmann-json3-dev
-  libgtest-dev libbenchmark-dev gnuplot-nox
+  libgtest-dev libbenchmark-dev gnuplot-nox assimp-utils
   clang-14 libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do

@@ -86,7 +86,7 @@ void check_soup(const PolygonSoup& soup) {
   }
   for (const Material& m : soup.materials) {
     for (int k = 0; k < 3; ++k) {
-      if (!(m.reflectance[k] >= 0.0 && m.reflectance[k] < 1.0)) finding("loaded a reflectance outside [0, 1)");
+      if (!(m.reflectance[k] >= 0.0 && m.reflectance[k] <= 1.0)) finding("loaded a reflectance outside [0, 1]");
       if (!(std::isfinite(m.emission[k]) && m.emission[k] >= 0.0)) finding("loaded a bad emission");
     }
   }

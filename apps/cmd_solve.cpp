@@ -53,7 +53,8 @@ int run_solve(const Args& args) {
       ("vis-threshold", double_value(LinearOptions{}.vis_threshold),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
       ("link-power", double_value(LinearOptions{}.link_power),
-       "linear: a surface starts shooting once its power reaches this fraction of the emitted power")
+       "linear: surfaces start shooting brightest first, until those left out carry together less than this "
+       "fraction of the emitted power")
       ("eps-bf", double_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor, or the spread of the shooter's leaves "
        "about its value x form factor, exceeds this fraction of the brightest emitted radiance")

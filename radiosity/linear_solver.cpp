@@ -218,10 +218,32 @@ bool LinearSolver::link_new_shooters() {
   const Scene& scene = model_.scene();
   const double eps = 1e-9 * model_.rays().diagonal();
   std::vector<PendingLink> pending;
+  // Surfaces not yet shooting, dimmest first: those whose powers sum to less
+  // than link_power of the emitted power stay out for now. A threshold on
+  // each surface alone would drop the light of every small surface of a
+  // furnished room (hundreds of chair legs and shelf sides, each below it).
+  std::vector<std::pair<double, int>> waiting;
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    const double power = M_PI * model_.surface_area(s) * luminance(surfaces_[s].cluster_radiance[0]);
+    if (!surfaces_[s].shooting && power > 0) waiting.emplace_back(power, s);
+  }
+  std::sort(waiting.begin(), waiting.end());
+  const double left_out = options_.link_power * total_emitted_power_;
+  double dropped = 0.0;
+  std::vector<bool> starts(model_.num_surfaces(), false);
+  double kept_out = 0.0;
+  for (const auto& [power, s] : waiting) {
+    dropped += power;
+    if (dropped >= left_out) {
+      starts[s] = true;
+    } else {
+      kept_out = dropped;
+    }
+  }
+  stats_.power_left_out = total_emitted_power_ > 0 ? kept_out / total_emitted_power_ : 0.0;
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     SurfaceState& st = surfaces_[s];
-    const double power = M_PI * model_.surface_area(s) * luminance(st.cluster_radiance[0]);
-    if (st.shooting || !(power > 0) || power < options_.link_power * total_emitted_power_) continue;
+    if (!starts[s]) continue;
     st.shooting = true;
     for (int r = 0; r < model_.num_surfaces(); ++r) {
       // A planar surface does not light itself; a curved one does (the inside
@@ -252,7 +274,19 @@ bool LinearSolver::link_new_shooters() {
     }
     return false;
   };
-  std::erase_if(graphs_, [&](const InteractionGraph& g) { return !exchanges(g); });
+  // The per-graph form factor cache moves with its graph.
+  unoccluded_at_.resize(graphs_.size());
+  std::size_t kept = 0;
+  for (std::size_t g = 0; g < graphs_.size(); ++g) {
+    if (!exchanges(graphs_[g])) continue;
+    if (kept != g) {
+      graphs_[kept] = std::move(graphs_[g]);
+      unoccluded_at_[kept] = std::move(unoccluded_at_[g]);
+    }
+    ++kept;
+  }
+  graphs_.erase(graphs_.begin() + static_cast<std::ptrdiff_t>(kept), graphs_.end());
+  unoccluded_at_.resize(kept);
   for (SurfaceState& st : surfaces_) st.graphs_in.clear();
   for (std::size_t g = 0; g < graphs_.size(); ++g) {
     surfaces_[graphs_[g].receiver_surface()].graphs_in.push_back(static_cast<int>(g));
@@ -312,39 +346,74 @@ std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, Vert
   return sides;
 }
 
-TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
-                                                 std::uint64_t& rays) const {
-  const int r = g.receiver_surface(), s = g.shooter_surface();
-  const VertexId v = g.vertex(vertex);
+std::vector<LinearSolver::CollocationPoint> LinearSolver::collocation_points(int r, VertexId v) const {
   const Surface& surface = model_.scene().surfaces[r];
   ReceiverPoint point;
   point.x = model_.hierarchy(r).point(v);
-  TransportSampling sampling;
-  sampling.k = options_.visibility_samples;
-  sampling.key = sample_key((static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
-                            static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
   if (surface.planar) {
     point.normal = surface.normal;
     point.approach = surfaces_[r].approach[v];
-    return transport_to(point, s, shooter, sampling, rays);
+    return {{point, 1.0}};
   }
   const std::vector<ReceiverSide> sides = receiver_sides(r, v);
   double total_weight = 0.0;
   for (const ReceiverSide& side : sides) total_weight += side.weight;
-  std::array<double, 3> f{0.0, 0.0, 0.0};
-  double unoccluded = 0.0;
+  std::vector<CollocationPoint> out;
+  out.reserve(sides.size());
   for (const ReceiverSide& side : sides) {
     point.normal = side.normal;
     point.approach = side.approach;
-    const TransportCoefficients c = transport_to(point, s, shooter, sampling, rays);
-    const double w = side.weight / total_weight;
-    for (int l = 0; l < 3; ++l) f[l] += w * c.f[l];
-    unoccluded += w * c.unoccluded;
+    out.push_back({point, side.weight / total_weight});
+  }
+  return out;
+}
+
+TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
+                                                 std::uint64_t& rays) const {
+  const int r = g.receiver_surface(), s = g.shooter_surface();
+  const VertexId v = g.vertex(vertex);
+  TransportSampling sampling;
+  sampling.k = options_.visibility_samples;
+  sampling.key = sample_key((static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
+                            static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
+  const std::vector<CollocationPoint> points = collocation_points(r, v);
+  if (points.size() == 1) return transport_to(points.front().point, s, shooter, sampling, rays);
+  std::array<double, 3> f{0.0, 0.0, 0.0};
+  double unoccluded = 0.0;
+  for (const CollocationPoint& p : points) {
+    const TransportCoefficients c = transport_to(p.point, s, shooter, sampling, rays);
+    for (int l = 0; l < 3; ++l) f[l] += p.weight * c.f[l];
+    unoccluded += p.weight * c.unoccluded;
   }
   TransportCoefficients out;
   for (int l = 0; l < 3; ++l) out.f[l] = static_cast<float>(f[l]);
   out.unoccluded = static_cast<float>(unoccluded);
   return out;
+}
+
+double LinearSolver::unoccluded_form_factor(int r, VertexId v, int s) const {
+  const Surface& shooter = model_.scene().surfaces[s];
+  const SurfaceHierarchy& h = model_.hierarchy(s);
+  std::vector<Vec3> polygon;
+  double total = 0.0;
+  for (const CollocationPoint& p : collocation_points(r, v)) {
+    const Vec3* approach = p.point.approach.sqrnorm() > 0 ? &p.point.approach : nullptr;
+    double ff = 0.0;
+    if (shooter.planar) {
+      for (const auto& indices : shooter.polygons) {
+        polygon.clear();
+        for (int i : indices) polygon.push_back(shooter.points[i]);
+        ff += point_polygon_form_factor(p.point.x, p.point.normal, polygon, approach);
+      }
+    } else {
+      for (std::size_t root = 0; root < h.num_roots(); ++root) {
+        ff += point_triangle_form_factor(p.point.x, p.point.normal,
+                                         model_.triangle(s, static_cast<NodeId>(root)), approach);
+      }
+    }
+    total += p.weight * ff;
+  }
+  return total;
 }
 
 TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int s, NodeId shooter,
@@ -405,6 +474,7 @@ void LinearSolver::gather() {
 double LinearSolver::push() {
   const auto start = Clock::now();
   std::vector<double> change(model_.num_surfaces(), 0.0);
+  unoccluded_at_.resize(graphs_.size());
   tbb::parallel_for(0, model_.num_surfaces(), [&](int r) {
     SurfaceState& st = surfaces_[r];
     const Material& m = model_.material(r);
@@ -416,17 +486,52 @@ double LinearSolver::push() {
     // by linear interpolation down R's hierarchy (vertex ids grow with depth,
     // so an edge's end points come first), except at the vertices its graph
     // computed exactly, T-vertices included.
+    //
+    // What is interpolated is the contribution divided by the exact
+    // unoccluded form factor from all of S (docs/accuracy.md, "Energy that never
+    // arrives"): the visible fraction times the radiance seen.
+    // The form factor itself is far from linear near a contact or a corner
+    // (it goes from 1/2 to 0 within a few element sizes), and the shooters
+    // that a corner refines (the adjacent wall) and those it leaves coarse
+    // (everything else) would not sum to 1 between the nodes; the ratio is
+    // smooth there, and the form factor is known exactly at every vertex.
+    std::vector<Rgb> ratio(nv);
+    std::vector<std::uint8_t> has_ratio(nv);
+    std::vector<VertexId> missing;
     for (int gi : st.graphs_in) {
       const InteractionGraph& g = graphs_[gi];
+      std::vector<float>& unoccluded = unoccluded_at_[gi];
+      if (unoccluded.size() < nv) unoccluded.resize(nv, std::numeric_limits<float>::quiet_NaN());
       std::fill(exact.begin(), exact.end(), 0);
       for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
-        contribution[g.vertex(i)] = g.gathered(i);
-        exact[g.vertex(i)] = 1;
+        const VertexId v = g.vertex(i);
+        contribution[v] = g.gathered(i);
+        exact[v] = 1;
+        double ff = 0.0;
+        for (const GraphLink& link : g.links(i)) ff += link.coefficients.unoccluded;
+        has_ratio[v] = ff > 0.0;
+        ratio[v] = ff > 0.0 ? contribution[v] / ff : Rgb(0, 0, 0);
       }
+      missing.clear();
+      for (std::size_t v = 0; v < nv; ++v) {
+        if (!exact[v] && std::isnan(unoccluded[v])) missing.push_back(static_cast<VertexId>(v));
+      }
+      tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t i) {
+        unoccluded[missing[i]] = static_cast<float>(unoccluded_form_factor(r, missing[i], g.shooter_surface()));
+      });
       for (std::size_t v = 0; v < nv; ++v) {
         if (!exact[v]) {
           const auto& [a, b] = st.parents[v];
-          contribution[v] = a == kNoVertex ? Rgb(0, 0, 0) : 0.5 * (contribution[a] + contribution[b]);
+          if (a == kNoVertex) {
+            contribution[v] = Rgb(0, 0, 0);
+            has_ratio[v] = 0;
+          } else {
+            has_ratio[v] = has_ratio[a] || has_ratio[b];
+            ratio[v] = has_ratio[a] && has_ratio[b] ? 0.5 * (ratio[a] + ratio[b])
+                                                    : (has_ratio[a] ? ratio[a] : ratio[b]);
+            contribution[v] = has_ratio[v] ? static_cast<double>(unoccluded[v]) * ratio[v]
+                                           : 0.5 * (contribution[a] + contribution[b]);
+          }
         }
         total[v] += contribution[v];
       }
@@ -884,6 +989,7 @@ void LinearSolver::collect_stats() {
     stats_.bytes_graphs += g.bytes();
     stats_.bytes_links += g.link_bytes();
   }
+  for (const std::vector<float>& u : unoccluded_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
   stats_.leaves_per_level.clear();

@@ -59,8 +59,10 @@ struct LinearOptions {
   // Stop when nothing was refined or linked and no vertex changed by more
   // than tolerance times the brightest emitted luminance.
   double tolerance = 1e-4;
-  // A surface shoots (gets graphs) once its power reaches this fraction of the
-  // total emitted power (progressive linking).
+  // Progressive linking: surfaces start shooting (get graphs) brightest first,
+  // until those left out carry together less than this fraction of the total
+  // emitted power, so the light dropped is bounded however many small
+  // surfaces the scene has.
   double link_power = 1e-4;
   int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
   std::size_t max_links = 0;   // 0 = no limit
@@ -91,6 +93,9 @@ struct LinearStats {
   bool link_budget_reached = false;    // max_links stopped refinement
   bool memory_budget_reached = false;  // max_bytes stopped refinement
   std::size_t links_linked_past_budget = 0;  // first links of shooters that began after the cap
+  // Power of the surfaces left out of progressive linking, as a fraction of
+  // the emitted power (at most link_power).
+  double power_left_out = 0.0;
   std::uint64_t shadow_rays = 0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
@@ -170,6 +175,17 @@ class LinearSolver {
     double weight;
   };
   std::vector<ReceiverSide> receiver_sides(int r, VertexId v) const;
+  // The points R's vertex v is collocated at, with their weights (one for a
+  // planar receiver, one per side on a curved one).
+  struct CollocationPoint {
+    ReceiverPoint point;
+    double weight;
+  };
+  std::vector<CollocationPoint> collocation_points(int r, VertexId v) const;
+  // Exact form factor from all of surface s to R's vertex v, ignoring
+  // occlusion: what coefficients() would sum to over any complete cut of s
+  // with every shadow ray clear.
+  double unoccluded_form_factor(int r, VertexId v, int s) const;
   TransportCoefficients transport_to(const ReceiverPoint& point, int s, NodeId shooter,
                                      const TransportSampling& sampling, std::uint64_t& rays) const;
   void gather();
@@ -201,6 +217,9 @@ class LinearSolver {
   // Per graph and graph vertex: the importance of its hat function over the
   // graph's leaves (what a change of S's contribution there is worth).
   std::vector<std::vector<double>> graph_importance_;
+  // Per graph and receiver vertex, filled when push() first needs it: the
+  // unoccluded form factor from the graph's shooter (NaN until computed).
+  std::vector<std::vector<float>> unoccluded_at_;
   double max_emitted_ = 0.0;
   double total_emitted_power_ = 0.0;
   ElementFloor floor_;

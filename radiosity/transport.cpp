@@ -37,18 +37,16 @@ double kernel(const Vec3& x, const Vec3& nx, const Vec3& y, const Vec3& ny) {
 
 // Visible fraction of a constant-basis shooter made of triangles: k² shadow
 // rays to triangles drawn systematically by `cumulative` (running sums of
-// the weights they are chosen by), one uniform point in each; pairs that do
-// not face each other are left out, and each ray counts by the kernel when
-// `kernel_weighted` (sampling by area) or equally (sampling by form factor).
-// 1 when no pair faces: nothing says the shooter is hidden.
+// their exact form factors), one uniform point in each, every ray counting
+// equally; pairs that do not face each other are left out. 1 when no pair
+// faces: nothing says the shooter is hidden.
 double visible_fraction(const ReceiverPoint& receiver, std::span<const std::array<Vec3, 3>> triangles,
-                        const std::vector<double>& cumulative, bool kernel_weighted, const RayScene& rays,
+                        const std::vector<double>& cumulative, const RayScene& rays,
                         const TransportSampling& sampling, std::uint64_t& ray_count) {
   const Vec3 origin = kernel_origin(receiver, rays);
   const std::size_t count = static_cast<std::size_t>(std::max(1, sampling.k * sampling.k));
   const double offset = unit_double(sample_key(sampling.key, 1));
   std::vector<ShadowRay> segments;
-  std::vector<double> weight;
   for (std::size_t i = 0; i < count; ++i) {
     const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * cumulative.back();
     const std::size_t j = std::min<std::size_t>(
@@ -56,22 +54,16 @@ double visible_fraction(const ReceiverPoint& receiver, std::span<const std::arra
         triangles.size() - 1);
     const TriangleSample ts = stratified_triangle_samples(1, sample_key(sampling.key, 2, i)).front();
     const Vec3 y = at(triangles[j], ts), ny = unit_normal(triangles[j]);
-    const double w = kernel(origin, receiver.normal, y, ny);
-    if (w > 0) {
+    if (kernel(origin, receiver.normal, y, ny) > 0) {
       segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
-      weight.push_back(kernel_weighted ? w : 1.0);
     }
   }
   if (segments.empty()) return 1.0;
   std::vector<std::uint8_t> blocked(segments.size());
   rays.occluded(segments, blocked);
   ray_count += segments.size();
-  double total = 0.0, clear = 0.0;
-  for (std::size_t t = 0; t < segments.size(); ++t) {
-    total += weight[t];
-    if (!blocked[t]) clear += weight[t];
-  }
-  return clear / total;
+  const auto clear = std::count(blocked.begin(), blocked.end(), std::uint8_t{0});
+  return static_cast<double>(clear) / static_cast<double>(segments.size());
 }
 
 }  // namespace
@@ -138,7 +130,7 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
   // Shadow rays go to triangles drawn in proportion to their share of the
   // form factor (systematic sampling), so hidden or back-facing parts of a
   // large shooter do not dilute the parts that carry the energy.
-  const double visible = visible_fraction(receiver, shooter, cumulative, false, rays, sampling, ray_count);
+  const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count);
   out.f[0] = static_cast<float>(ff * visible);
   return out;
 }
@@ -154,12 +146,15 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
   out.unoccluded = static_cast<float>(ff);
   std::vector<double> cumulative;
   cumulative.reserve(triangles.size());
-  double area = 0.0;
+  double sum = 0.0;
   for (const auto& t : triangles) {
-    area += 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
-    cumulative.push_back(area);
+    sum += point_triangle_form_factor(receiver.x, receiver.normal, t, approach);
+    cumulative.push_back(sum);
   }
-  const double visible = visible_fraction(receiver, triangles, cumulative, true, rays, sampling, ray_count);
+  // Rounding can leave the triangles' sum at 0 where the polygons' is not:
+  // nothing then says the surface is hidden.
+  const double visible =
+      sum > 0.0 ? visible_fraction(receiver, triangles, cumulative, rays, sampling, ray_count) : 1.0;
   out.f[0] = static_cast<float>(ff * visible);
   return out;
 }

@@ -50,9 +50,12 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         const TransportSampling& sampling, std::uint64_t& ray_count);
 
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
-// form factor of its input polygons (the same region as its triangles, at the
-// cost of a few edges instead of every triangle) times the kernel-weighted
-// visible fraction of shadow rays to points spread over the triangles by area.
+// form factor of its input polygons times the visible fraction of shadow rays
+// to its triangles, drawn in proportion to each triangle's exact form factor
+// (as for a cluster). Drawing by area and weighting by the kernel instead
+// lets the few samples nearest a receiver in a corner decide the whole
+// fraction (the kernel grows as 1/r⁴ there), which misjudged a floor seen
+// from the foot of a wall by 30 % (docs/accuracy.md).
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
                                         std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count);

@@ -75,6 +75,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
                {"receiver_splits", st.receiver_splits},
                {"shooter_refinements", st.shooter_refinements},
                {"links_linked_past_budget", st.links_linked_past_budget},
+               {"power_left_out", st.power_left_out},
                {"final_change", st.final_change},
                {"shadow_rays", st.shadow_rays},
                {"oracle_adaptation", st.world_adaptation},

@@ -1,0 +1,140 @@
+// Transport coefficients of whole-surface shooters against an independent
+// truth: cosine-weighted rays traced analytically, without Embree.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include "radiosity/ray_scene.hpp"
+#include "radiosity/sampling.hpp"
+#include "radiosity/transport.hpp"
+
+namespace lhr {
+namespace {
+
+constexpr double kRoom = 4.0;                   // floor [0, 4]² in y = 0, facing +y
+const Vec3 kBoxLow(1.5, 0, 1.5), kBoxHigh(2.5, 1, 2.5);  // a block standing on it
+
+// The floor as the solver's roots would be: an n × n grid of squares, two
+// triangles each, counter-clockwise seen from above.
+std::vector<std::array<Vec3, 3>> floor_triangles(int n) {
+  std::vector<std::array<Vec3, 3>> out;
+  const double s = kRoom / n;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const Vec3 a(i * s, 0, j * s), b(i * s, 0, (j + 1) * s), c((i + 1) * s, 0, (j + 1) * s),
+          d((i + 1) * s, 0, j * s);
+      out.push_back({a, b, c});
+      out.push_back({a, c, d});
+    }
+  }
+  return out;
+}
+
+// The block's four sides and top, facing out (its bottom rests on the floor).
+TriMesh block() {
+  TriMesh m;
+  const auto v = [&](double x, double y, double z) { return m.add_vertex(Vec3(x, y, z)); };
+  const double x0 = kBoxLow[0], x1 = kBoxHigh[0], z0 = kBoxLow[2], z1 = kBoxHigh[2], h = kBoxHigh[1];
+  const auto quad = [&](TriMesh::VertexHandle a, TriMesh::VertexHandle b, TriMesh::VertexHandle c,
+                        TriMesh::VertexHandle d) {
+    m.add_face(a, b, c);
+    m.add_face(a, c, d);
+  };
+  quad(v(x0, h, z0), v(x0, h, z1), v(x1, h, z1), v(x1, h, z0));  // top, +y
+  quad(v(x0, 0, z0), v(x0, h, z0), v(x1, h, z0), v(x1, 0, z0));  // −z
+  quad(v(x0, 0, z1), v(x1, 0, z1), v(x1, h, z1), v(x0, h, z1));  // +z
+  quad(v(x0, 0, z0), v(x0, 0, z1), v(x0, h, z1), v(x0, h, z0));  // −x
+  quad(v(x1, 0, z0), v(x1, h, z0), v(x1, h, z1), v(x1, 0, z1));  // +x
+  return m;
+}
+
+// Distance along d to the block, if the ray from o meets it.
+std::optional<double> hit_block(const Vec3& o, const Vec3& d) {
+  double t0 = 0.0, t1 = 1e300;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(d[a]) < 1e-300) {
+      if (o[a] < kBoxLow[a] || o[a] > kBoxHigh[a]) return std::nullopt;
+      continue;
+    }
+    double ta = (kBoxLow[a] - o[a]) / d[a], tb = (kBoxHigh[a] - o[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return std::nullopt;
+  }
+  return t0;
+}
+
+// Form factor from x (unit normal n) to the part of the floor it sees past
+// the block: the share of cosine-distributed directions that reach the floor first.
+double visible_floor_form_factor(const Vec3& x, const Vec3& n, int rays) {
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const Vec3 helper = std::abs(n[0]) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 t = OpenMesh::cross(n, helper).normalized(), b = OpenMesh::cross(n, t);
+  int floor_hits = 0;
+  for (int i = 0; i < rays; ++i) {
+    const double u1 = uniform(rng), u2 = uniform(rng);
+    const double r = std::sqrt(u1), phi = 2.0 * M_PI * u2;
+    const Vec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1.0 - u1) * n;
+    if (!(d[1] < 0)) continue;
+    const double t_floor = -x[1] / d[1];
+    const Vec3 p = x + t_floor * d;
+    if (p[0] < 0 || p[0] > kRoom || p[2] < 0 || p[2] > kRoom) continue;
+    const auto t_block = hit_block(x, d);
+    if (t_block && *t_block < t_floor) continue;
+    ++floor_hits;
+  }
+  return static_cast<double>(floor_hits) / rays;
+}
+
+TEST(SurfaceTransport, FloorSeenFromTheFootOfAWallPastABlockMatchesTracedRays) {
+  // A receiver at the foot of a wall (z = 0, facing +z) sees the floor with
+  // F ≈ 1/2; the block hides only what lies behind it. The visible fraction
+  // comes from k² = 16 shadow rays: drawn by area and weighted by the kernel
+  // (the former estimator), the nearest samples decided it and it read
+  // 0.36 against a true 0.50 at x = 2.5.
+  TriMesh floor_mesh;
+  for (const auto& t : floor_triangles(1)) {
+    floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
+  }
+  const TriMesh block_mesh = block();
+  const RayScene rays({&floor_mesh, &block_mesh});
+  const std::vector<std::vector<Vec3>> polygons{
+      {Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
+  const auto triangles = floor_triangles(8);
+
+  for (const Vec3& x : {Vec3(2.5, 0, 0), Vec3(2.0, 0.02, 0), Vec3(1.0, 0.1, 0), Vec3(3.9, 0, 0)}) {
+    ReceiverPoint receiver;
+    receiver.x = x;
+    receiver.normal = Vec3(0, 0, 1);
+    receiver.approach = Vec3(0, 1, 0);  // from inside the wall, above the corner
+    // The truth is traced from just inside the wall's interior, as the limit is taken.
+    const double truth = visible_floor_form_factor(x + Vec3(0, 1e-7, 0), receiver.normal, 400000);
+    double worst = 0.0, sum = 0.0;
+    constexpr int kPatterns = 24;
+    for (int key = 0; key < kPatterns; ++key) {
+      TransportSampling sampling;
+      sampling.k = 4;
+      sampling.key = sample_key(7, static_cast<std::uint64_t>(key));
+      std::uint64_t ray_count = 0;
+      const TransportCoefficients c = surface_transport(receiver, polygons, triangles, rays, sampling, ray_count);
+      EXPECT_GT(ray_count, 0u);
+      worst = std::max(worst, std::abs(c.f[0] - truth));
+      sum += c.f[0];
+    }
+    // Noise of 16 rays on a fraction this close to 1 is a few per cent;
+    // the mean over patterns must agree with the traced rays (±0.002 at 400 k).
+    EXPECT_NEAR(sum / kPatterns, truth, 0.01) << "receiver at " << x;
+    EXPECT_LT(worst, 0.05) << "receiver at " << x << ", truth " << truth;
+  }
+}
+
+}  // namespace
+}  // namespace lhr

@@ -4,9 +4,7 @@
 // untouched.
 
 #include <gtest/gtest.h>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,8 +12,6 @@
 #include <thread>
 
 #include "test_support.hpp"
-
-extern char** environ;
 
 namespace lhr {
 namespace {
@@ -41,18 +37,9 @@ bool catches(pid_t pid, int signal) {
 Interrupted interrupt_run(const std::filesystem::path& dir, std::vector<std::string> args, const std::string& marker,
                           int signal, std::chrono::milliseconds delay) {
   const std::string err_file = (dir / "stderr.txt").string();
-  args.insert(args.begin(), LHR_EXECUTABLE);
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = test::spawn_lhr(std::move(args), err_file);
   Interrupted result;
-  if (spawned != 0) return result;
+  if (pid < 0) return result;
   for (int waited = 0; waited < 600; ++waited) {
     if (marker.empty() ? catches(pid, signal) : test::read_text(err_file).find(marker) != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -80,11 +67,7 @@ TEST(Interrupt, SignalMidSolveExitsCleanlyAndKeepsOldOutputs) {
     EXPECT_EQ(r.exit_code, 130) << r.err;
     EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
     EXPECT_EQ(test::read_text(dir / "out" / "mesh.ply"), "earlier result");
-    std::vector<std::string> files;
-    for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
-      files.push_back(entry.path().filename().string());
-    }
-    EXPECT_EQ(files, std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
+    EXPECT_EQ(test::file_names(dir / "out"), std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
   }
 }
 
@@ -103,11 +86,7 @@ TEST(Interrupt, SignalMidReferenceExitsCleanlyAndKeepsTheOldImage) {
     EXPECT_EQ(r.exit_code, 130) << r.err;
     EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
     EXPECT_EQ(test::read_text(dir / "out" / "ref.exr"), "earlier result");
-    std::vector<std::string> files;
-    for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
-      files.push_back(entry.path().filename().string());
-    }
-    EXPECT_EQ(files, std::vector<std::string>{"ref.exr"}) << "no new, partial or temporary file";
+    EXPECT_EQ(test::file_names(dir / "out"), std::vector<std::string>{"ref.exr"}) << "no new, partial or temporary file";
   }
 }
 
@@ -126,11 +105,7 @@ TEST(Interrupt, SignalMidVertexReferenceExitsCleanlyAndKeepsTheOldMesh) {
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
   EXPECT_EQ(test::read_text(dir / "out" / "ref.ply"), "earlier result");
-  std::vector<std::string> files;
-  for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
-    files.push_back(entry.path().filename().string());
-  }
-  EXPECT_EQ(files, std::vector<std::string>{"ref.ply"}) << "no new, partial or temporary file";
+  EXPECT_EQ(test::file_names(dir / "out"), std::vector<std::string>{"ref.ply"}) << "no new, partial or temporary file";
 }
 
 TEST(Interrupt, SignalMidMeshExitsCleanlyAndLeavesNoTemporary) {
@@ -165,11 +140,7 @@ TEST(Interrupt, SignalMidMeshExitsCleanlyAndLeavesNoTemporary) {
     EXPECT_EQ(r.exit_code, 130) << r.err;
     EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
     EXPECT_EQ(test::read_text(dir / "out" / "mesh.ply"), "earlier result");
-    std::vector<std::string> files;
-    for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
-      files.push_back(entry.path().filename().string());
-    }
-    EXPECT_EQ(files, std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
+    EXPECT_EQ(test::file_names(dir / "out"), std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
   }
 }
 

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 #include <fcntl.h>
-#include <spawn.h>
 #include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -28,7 +27,6 @@
 #include "io/output_dir.hpp"
 #include "test_support.hpp"
 
-extern char** environ;
 
 namespace lhr {
 namespace {
@@ -255,20 +253,6 @@ OutputSet read_set(const std::filesystem::path& dir) {
   return s;
 }
 
-pid_t spawn_lhr(std::vector<std::string> args, const std::filesystem::path& err_file) {
-  args.insert(args.begin(), LHR_EXECUTABLE);
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
-  posix_spawn_file_actions_destroy(&actions);
-  return pid;
-}
-
 int exit_code_of(pid_t pid) {
   int status = 0;
   if (waitpid(pid, &status, 0) != pid) return -1;
@@ -301,7 +285,7 @@ TEST(SafeWrites, ConcurrentSolvesIntoOneDirectoryLeaveOneRunsSet) {
     for (int k = 0; k < 2; ++k) {
       std::vector<std::string> args{"solve", scene, "--out", shared.string(), "--quiet"};
       args.insert(args.end(), flags[k].begin(), flags[k].end());
-      pids[k] = spawn_lhr(args, dir / ("err" + std::to_string(k)));
+      pids[k] = test::spawn_lhr(args, dir / ("err" + std::to_string(k)));
       ASSERT_GT(pids[k], 0);
     }
     int succeeded = 0;

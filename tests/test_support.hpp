@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by the test executables.
 
+#include <sys/types.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -15,6 +17,9 @@ struct CommandResult {
 
 // Runs the built `lhr` executable with args, capturing stdout and stderr.
 CommandResult run_lhr(const std::vector<std::string>& args);
+// Starts the built `lhr` executable with args in the background, its stderr
+// to err_file; the pid, or -1 when it could not be started.
+pid_t spawn_lhr(std::vector<std::string> args, const std::filesystem::path& err_file);
 
 std::filesystem::path source_dir();
 // A fresh, empty directory for one test, removed and recreated on each call.
@@ -24,6 +29,8 @@ void write_text(const std::filesystem::path& path, const std::string& text);
 // a 0.6 x 0.6 light (Ke 3, Kd 0) at height 0.5, facing it.
 void write_lit_floor_obj(const std::filesystem::path& dir);
 std::string read_text(const std::filesystem::path& path);
+// The names of the entries of dir, sorted.
+std::vector<std::string> file_names(const std::filesystem::path& dir);
 // Number of lines of text (for one-line error messages).
 int count_lines(const std::string& text);
 

@@ -423,7 +423,9 @@ TEST(LinearSolver, ImportanceSendsTheLinksToTheRoomTheCameraSees) {
     SceneModel model(scene, meshing);
     LinearOptions options;
     options.visibility_samples = 2;
-    options.eps_link = 20.0;
+    // Coarse: the share of links per room does not depend on the threshold
+    // (64-65 % with a camera, 20-21 % without, from 20 to 500), the run time does.
+    options.eps_link = 80.0;
     options.eps_pixel = 0.5;
     if (with_camera) options.view = test::camera_view(model, 0);
     LinearSolver solver(model, options);
@@ -431,10 +433,10 @@ TEST(LinearSolver, ImportanceSendsTheLinksToTheRoomTheCameraSees) {
     return refinement_in_camera_room(model, solver);
   };
   const RefinementShare seen = run(true), blind = run(false);
-  // Measured: 64 % of 2218918 refinement links in the camera's room (the
+  // Measured: 65 % of 885499 refinement links in the camera's room (the
   // rest mostly in the two rooms seen through the doorways, and where
   // importance carried back through the links asks for them); without a
-  // camera 20 % of 4003855, about that room's share of the scene.
+  // camera 21 % of 1468143, about that room's share of the scene.
   EXPECT_GT(seen.in_camera_room, 0.5) << seen.refined_links << " links";
   EXPECT_GT(seen.in_camera_room, blind.in_camera_room + 0.2)
       << "without a camera every room is refined alike: " << blind.in_camera_room << " of " << blind.refined_links;

@@ -147,6 +147,51 @@ TEST(SolveCommand, ThreadCountDoesNotChangeTheResult) {
   }
 }
 
+// The outputs' contracts and their independence of the thread count on a
+// scene small enough for the sanitized build, where the Cornell box runs
+// above take minutes (docs/robustness.md, "What runs where").
+TEST(SolveCommand, TinySceneWritesTheSameFiveOutputsForAnyThreadCount) {
+  const auto dir = test::fresh_dir("solve_tiny");
+  test::write_lit_floor_obj(dir);
+  test::write_text(dir / "tiny.scene.json", "{\"mesh\": \"tiny.obj\", \"camera\": {\"eye\": [0.5, -0.3, 0.3], "
+                                            "\"target\": [0.5, 0.5, 0.15], \"up\": [0, 0, 1], \"fov_y_deg\": 90, "
+                                            "\"width\": 32, \"height\": 24}}\n");
+  for (const std::string method : kMethods) {
+    SCOPED_TRACE(method);
+    const auto run = [&](int threads) {
+      const auto out = dir / (method + std::to_string(threads));
+      const auto r = test::run_lhr({"solve", (dir / "tiny.scene.json").string(), "--out", out.string(), "--method",
+                                    method, "--eps-bf", "0.02", "--threads", std::to_string(threads), "--quiet"});
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      return out;
+    };
+    const auto one = run(1), two = run(2);
+    for (const char* name : {"mesh.ply", "mesh.off", "image.png", "image.exr", "stats.json"}) {
+      ASSERT_TRUE(std::filesystem::exists(one / name)) << name;
+    }
+    const RawMesh mesh = read_raw_mesh(one / "mesh.ply");
+    ASSERT_EQ(mesh.radiance.size(), mesh.points.size());
+    ConformingCheckOptions check;
+    check.relative_tolerance = 1e-6;  // coordinates went through float storage
+    const auto violations = check_conforming_mesh(mesh, check);
+    EXPECT_TRUE(violations.empty()) << (violations.empty() ? "" : format_violation(violations.front()));
+    // The camera sees the light's underside: Ke 3 and Kd 0, so exactly its emission.
+    const Image exr = read_image(one / "image.exr");
+    float brightest = 0;
+    for (float v : exr.rgb) brightest = std::max(brightest, v);
+    EXPECT_NEAR(brightest, 3.0f, 1e-4f);
+    const auto stats = nlohmann::json::parse(test::read_text(one / "stats.json"));
+    EXPECT_EQ(stats["method"], method);
+    EXPECT_GT(stats["links"].get<long>(), 0);
+    EXPECT_EQ(stats["exported_triangles"].get<std::size_t>(), mesh.faces.size());
+
+    EXPECT_EQ(without_timings(stats), without_timings(nlohmann::json::parse(test::read_text(two / "stats.json"))));
+    EXPECT_TRUE(exr.rgb == read_image(two / "image.exr").rgb);
+    EXPECT_TRUE(test::read_text(one / "mesh.ply") == test::read_text(two / "mesh.ply"));
+    EXPECT_TRUE(test::read_text(one / "image.png") == test::read_text(two / "image.png"));
+  }
+}
+
 TEST(SolveCommand, BadInputFailsInOneLineAndWritesNothing) {
   const auto dir = test::fresh_dir("solve_bad");
   test::write_text(dir / "broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");

@@ -4,7 +4,7 @@
 # A finding's input is saved as tests/fuzz/crashes/fuzz_NAME-KIND-HASH: fix
 # the loader and move the file into tests/fuzz/corpus/NAME as a regression
 # input (docs/robustness.md).
-#   LHR_FUZZ_SECONDS    seconds per fuzzer (default 60)
+#   LHR_FUZZ_SECONDS    seconds per fuzzer (default 60; CI's .ci/run sets 25)
 #   LHR_FUZZ_BUILD_DIR  build directory (default build-fuzz)
 #   LHR_FUZZ_TARGETS    which fuzzers (default "obj ply off scene_json")
 set -euo pipefail

@@ -51,8 +51,9 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
 
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
 // form factor of its input polygons times the visible fraction of shadow rays
-// to its triangles, drawn in proportion to each triangle's exact form factor
-// (as for a cluster). Drawing by area and weighting by the kernel instead
+// to its triangles, drawn in proportion to each triangle's form factor
+// (exact near the receiver, a disc estimate farther off; a cluster uses
+// exact ones). Drawing by area and weighting by the kernel instead
 // lets the few samples nearest a receiver in a corner decide the whole
 // fraction (the kernel grows as 1/r⁴ there), which misjudged a floor seen
 // from the foot of a wall by 30 % (docs/accuracy.md).

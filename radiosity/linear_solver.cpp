@@ -454,18 +454,27 @@ void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
 
 void LinearSolver::gather() {
   const auto start = Clock::now();
+  unoccluded_at_.resize(graphs_.size());
   tbb::parallel_for(std::size_t{0}, graphs_.size(), [&](std::size_t gi) {
     InteractionGraph& g = graphs_[gi];
     const int s = g.shooter_surface();
+    // The unoccluded form factor at the graph's own nodes comes with the
+    // links; push() needs it there as the base of what it interpolates.
+    std::vector<float>& unoccluded = unoccluded_at_[gi];
+    const std::size_t nv = surfaces_[g.receiver_surface()].radiance.size();
+    if (unoccluded.size() < nv) unoccluded.resize(nv, std::numeric_limits<float>::quiet_NaN());
     for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
       Rgb sum(0, 0, 0);
+      double ff = 0.0;
       for (const GraphLink& link : g.links(i)) {
+        ff += link.coefficients.unoccluded;
         for (int l = 0; l < 3; ++l) {
           const float f = link.coefficients.f[l];
           if (f != 0.0f) sum += static_cast<double>(f) * shooter_value(s, link.shooter, l);
         }
       }
       g.gathered(i) = sum;
+      unoccluded[g.vertex(i)] = static_cast<float>(ff);
     }
   });
   stats_.seconds_gather += seconds_since(start);
@@ -507,8 +516,7 @@ double LinearSolver::push() {
         const VertexId v = g.vertex(i);
         contribution[v] = g.gathered(i);
         exact[v] = 1;
-        double ff = 0.0;
-        for (const GraphLink& link : g.links(i)) ff += link.coefficients.unoccluded;
+        const double ff = unoccluded[v];  // set by gather()
         has_ratio[v] = ff > 0.0;
         ratio[v] = ff > 0.0 ? contribution[v] / ff : Rgb(0, 0, 0);
       }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -48,8 +49,38 @@ CommandResult run_lhr(const std::vector<std::string>& args) {
 
 std::filesystem::path source_dir() { return LHR_SOURCE_DIR; }
 
+namespace {
+
+// Every test process keeps its scratch files under one directory named after
+// its pid, removed when the process exits (LHR_KEEP_TEST_DIRS=1 keeps it for a
+// post-mortem). A forked child that exits normally must not remove its
+// parent's directory, hence the pid check.
+class ScratchRoot {
+ public:
+  const std::filesystem::path& path() {
+    if (path_.empty()) {
+      owner_ = ::getpid();
+      path_ = std::filesystem::temp_directory_path() / ("lhr-test-" + std::to_string(owner_));
+    }
+    return path_;
+  }
+  ~ScratchRoot() {
+    if (path_.empty() || ::getpid() != owner_ || std::getenv("LHR_KEEP_TEST_DIRS")) return;
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+
+ private:
+  std::filesystem::path path_;
+  pid_t owner_ = 0;
+};
+
+ScratchRoot scratch_root;
+
+}  // namespace
+
 std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("lhr-test-" + std::to_string(::getpid())) / name;
+  const auto dir = scratch_root.path() / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

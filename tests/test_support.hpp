@@ -22,7 +22,8 @@ CommandResult run_lhr(const std::vector<std::string>& args);
 pid_t spawn_lhr(std::vector<std::string> args, const std::filesystem::path& err_file);
 
 std::filesystem::path source_dir();
-// A fresh, empty directory for one test, removed and recreated on each call.
+// A fresh, empty directory for one test, removed and recreated on each call;
+// all of them go when the test process exits.
 std::filesystem::path fresh_dir(const std::string& name);
 void write_text(const std::filesystem::path& path, const std::string& text);
 // dir/tiny.obj and dir/tiny.mtl: a unit floor (Kd 0.7 0.6 0.5) in z = 0 under

@@ -33,12 +33,14 @@ int mesh_scene(const po::variables_map& vm, const std::filesystem::path& out_pat
   const MeshingOptions meshing = meshing_options_from(vm, scene);
 
   const bool progress = !quiet && ::isatty(STDERR_FILENO);
+  const double tolerance = contact_tolerance(scene.surfaces);
+  const auto contacts = find_contact_lines(scene.surfaces, tolerance);
   ExportMesh out;
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
     throw_if_interrupted();
     const Surface& surface = scene.surfaces[i];
     if (progress) std::cerr << "\rmeshing surface " << (i + 1) << "/" << scene.surfaces.size() << std::flush;
-    const TriMesh mesh = mesh_surface(surface, meshing);
+    const TriMesh mesh = mesh_surface(surface, meshing, contacts[i], tolerance);
     const Material& material = scene.materials[surface.material];
     const std::size_t first = out.points.size();
     append_to_export(out, mesh, std::vector<Rgb>(mesh.n_vertices(), material.emission));

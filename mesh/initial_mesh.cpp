@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -39,10 +40,10 @@ using VertexBase =
     CGAL::Triangulation_vertex_base_with_info_2<InputVertex, Kernel, CGAL::Triangulation_vertex_base_2<Kernel>>;
 using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
-// Crossing constraints mean crossing polygon edges, i.e. broken input: let
-// CGAL throw instead of constructing intersection points.
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds,
-                                                       CGAL::No_constraint_intersection_requiring_constructions_tag>;
+// Contact lines may cross each other (two boxes pushed into each other), so
+// CGAL constructs intersection points; crossing polygon edges, which mean
+// broken input, are caught by counting vertices (mesh_planar).
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -338,7 +339,178 @@ void refine(Cdt& cdt, const Criteria& criteria) {
   }
 }
 
-TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options) {
+// Contact lines turned into constraints on one surface: clipped to its
+// region, their ends snapped (within the contact tolerance) onto polygon
+// vertices, onto polygon edges (which are split there) and onto each other,
+// and pieces lying along a polygon edge dropped. Without the snapping, an end
+// a rounding error away from an edge would leave a sliver that Delaunay
+// refinement fills with ever smaller triangles.
+struct ContactConstraints {
+  std::vector<Point2> points;                          // new points, numbered from the surface's point count on
+  std::vector<std::pair<int, int>> polygon_edges;      // the polygon constraints, split at contact ends
+  std::vector<std::pair<int, int>> contact_edges;
+};
+
+// Parameter intervals of segment p0 + t (p1 - p0), t in [0, 1], inside the
+// union of the triangles (a point within `slack` of a triangle counts as in).
+std::vector<std::pair<double, double>> clip_to_region(const Point2& p0, const Point2& p1,
+                                                      const std::vector<Point2>& q,
+                                                      const std::vector<std::array<int, 3>>& triangles, double slack) {
+  std::vector<std::pair<double, double>> inside;
+  const double sx0 = std::min(p0.x(), p1.x()) - slack, sx1 = std::max(p0.x(), p1.x()) + slack;
+  const double sy0 = std::min(p0.y(), p1.y()) - slack, sy1 = std::max(p0.y(), p1.y()) + slack;
+  for (const auto& tri : triangles) {
+    const Point2 &a = q[tri[0]], &b = q[tri[1]], &c = q[tri[2]];
+    if (std::max({a.x(), b.x(), c.x()}) < sx0 || std::min({a.x(), b.x(), c.x()}) > sx1 ||
+        std::max({a.y(), b.y(), c.y()}) < sy0 || std::min({a.y(), b.y(), c.y()}) > sy1) {
+      continue;
+    }
+    double t0 = 0.0, t1 = 1.0;
+    const std::array<std::pair<const Point2*, const Point2*>, 3> edges{{{&a, &b}, {&b, &c}, {&c, &a}}};
+    for (const auto& [e0, e1] : edges) {
+      // Signed distance to the edge's line, positive inside, along the segment.
+      const double len = std::sqrt(CGAL::squared_distance(*e0, *e1));
+      const double f0 = orient2(*e0, *e1, p0) / len + slack;
+      const double f1 = orient2(*e0, *e1, p1) / len + slack;
+      if (f0 < 0 && f1 < 0) {
+        t0 = 1.0;
+        t1 = 0.0;
+        break;
+      }
+      if (f0 < 0) t0 = std::max(t0, f0 / (f0 - f1));
+      if (f1 < 0) t1 = std::min(t1, f0 / (f0 - f1));
+    }
+    if (t1 > t0) inside.emplace_back(t0, t1);
+  }
+  std::sort(inside.begin(), inside.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& piece : inside) {
+    if (!merged.empty() && piece.first <= merged.back().second + 1e-12) {
+      merged.back().second = std::max(merged.back().second, piece.second);
+    } else {
+      merged.push_back(piece);
+    }
+  }
+  return merged;
+}
+
+double distance_to_segment(const Point2& p, const Point2& a, const Point2& b, double* t_out) {
+  const double dx = b.x() - a.x(), dy = b.y() - a.y();
+  const double l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((p.x() - a.x()) * dx + (p.y() - a.y()) * dy) / l2, 0.0, 1.0) : 0.0;
+  if (t_out) *t_out = t;
+  return std::hypot(p.x() - a.x() - t * dx, p.y() - a.y() - t * dy);
+}
+
+ContactConstraints plan_contacts(const std::vector<Point2>& q, const std::vector<std::array<int, 3>>& triangles,
+                                 const std::vector<std::pair<int, int>>& polygon_edges,
+                                 const std::vector<std::pair<Point2, Point2>>& contacts, double tolerance) {
+  ContactConstraints plan;
+  const int first_new = static_cast<int>(q.size());
+  const auto point = [&](int i) -> const Point2& { return i < first_new ? q[i] : plan.points[i - first_new]; };
+  // Points on each polygon edge besides its ends, with their parameters.
+  std::vector<std::vector<std::pair<double, int>>> on_edge(polygon_edges.size());
+  std::vector<int> contact_points;  // new points not on a polygon edge
+  // For a point: the polygon edges it lies on (to drop pieces along one).
+  std::map<int, std::vector<std::size_t>> edges_at;
+  for (std::size_t e = 0; e < polygon_edges.size(); ++e) {
+    edges_at[polygon_edges[e].first].push_back(e);
+    edges_at[polygon_edges[e].second].push_back(e);
+  }
+  const auto resolve = [&](const Point2& p) -> int {
+    for (const auto& [v, edges] : edges_at) {
+      if (v < first_new && std::sqrt(CGAL::squared_distance(p, q[v])) <= tolerance) return v;
+    }
+    for (std::size_t e = 0; e < polygon_edges.size(); ++e) {
+      double t = 0.0;
+      const Point2 &a = q[polygon_edges[e].first], &b = q[polygon_edges[e].second];
+      if (distance_to_segment(p, a, b, &t) > tolerance) continue;
+      for (const auto& [s, i] : on_edge[e]) {
+        if (std::sqrt(CGAL::squared_distance(p, point(i))) <= tolerance) return i;
+      }
+      const int i = first_new + static_cast<int>(plan.points.size());
+      plan.points.emplace_back(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()));
+      on_edge[e].emplace_back(t, i);
+      edges_at[i].push_back(e);
+      return i;
+    }
+    for (int i : contact_points) {
+      if (std::sqrt(CGAL::squared_distance(p, point(i))) <= tolerance) return i;
+    }
+    const int i = first_new + static_cast<int>(plan.points.size());
+    plan.points.push_back(p);
+    contact_points.push_back(i);
+    return i;
+  };
+
+  std::vector<std::pair<int, int>> pieces;
+  for (const auto& [p0, p1] : contacts) {
+    const double length = std::sqrt(CGAL::squared_distance(p0, p1));
+    if (!(length > tolerance)) continue;
+    for (const auto& [t0, t1] : clip_to_region(p0, p1, q, triangles, 0.5 * tolerance)) {
+      if ((t1 - t0) * length <= tolerance) continue;
+      const int a = resolve(p0 + t0 * (p1 - p0));
+      const int b = resolve(p0 + t1 * (p1 - p0));
+      if (a == b) continue;
+      const auto ea = edges_at.find(a), eb = edges_at.find(b);
+      bool along_polygon_edge = false;
+      if (ea != edges_at.end() && eb != edges_at.end()) {
+        for (std::size_t e : ea->second) {
+          along_polygon_edge |= std::find(eb->second.begin(), eb->second.end(), e) != eb->second.end();
+        }
+      }
+      if (!along_polygon_edge) pieces.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(pieces.begin(), pieces.end());
+  pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+
+  // A contact end on another piece (one box's corner against another's
+  // side) splits that piece.
+  std::vector<int> ends;
+  for (const auto& [a, b] : pieces) {
+    ends.push_back(a);
+    ends.push_back(b);
+  }
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  std::set<std::pair<int, int>> contact_edges;
+  for (const auto& [a, b] : pieces) {
+    std::vector<std::pair<double, int>> chain{{0.0, a}, {1.0, b}};
+    for (int k : ends) {
+      if (k == a || k == b) continue;
+      double t = 0.0;
+      if (distance_to_segment(point(k), point(a), point(b), &t) <= tolerance && t > 0.0 && t < 1.0) {
+        chain.emplace_back(t, k);
+      }
+    }
+    std::sort(chain.begin(), chain.end());
+    for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+      const int u = chain[i].second, v = chain[i + 1].second;
+      if (u != v) contact_edges.emplace(std::min(u, v), std::max(u, v));
+    }
+  }
+  plan.contact_edges.assign(contact_edges.begin(), contact_edges.end());
+
+  for (std::size_t e = 0; e < polygon_edges.size(); ++e) {
+    auto& chain = on_edge[e];
+    if (chain.empty()) {
+      plan.polygon_edges.push_back(polygon_edges[e]);
+      continue;
+    }
+    std::sort(chain.begin(), chain.end());
+    int from = polygon_edges[e].first;
+    for (const auto& [t, i] : chain) {
+      plan.polygon_edges.emplace_back(from, i);
+      from = i;
+    }
+    plan.polygon_edges.emplace_back(from, polygon_edges[e].second);
+  }
+  return plan;
+}
+
+TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options, const std::vector<Segment3>& contacts,
+                    double contact_tolerance) {
   // Frame (u, v, n), right-handed, so counter-clockwise in (u, v) is
   // counter-clockwise seen from the front.
   const Vec3 vector_area = newell_vector_area(surface);
@@ -445,24 +617,38 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options) {
     }
   }
 
+  std::vector<std::pair<Point2, Point2>> contacts2;
+  for (const Segment3& c : contacts) {
+    const Vec3 d0 = c[0] - origin, d1 = c[1] - origin;
+    contacts2.emplace_back(Point2(OpenMesh::dot(d0, u), OpenMesh::dot(d0, v)),
+                           Point2(OpenMesh::dot(d1, u), OpenMesh::dot(d1, v)));
+  }
+  ContactConstraints plan = plan_contacts(q, triangles, constraints, contacts2, contact_tolerance);
+  std::vector<Point2> all_points = q;
+  all_points.insert(all_points.end(), plan.points.begin(), plan.points.end());
+
   Cdt cdt;
-  std::vector<Cdt::Vertex_handle> handles(surface.points.size());
+  std::vector<Cdt::Vertex_handle> handles(all_points.size());
   // Only constraint ends are inserted: an input vertex inside a flat part
   // carries no shape, and keeping it would force the mesh finer than h
-  // (DESIGN §4: minimum density).
-  std::vector<bool> used(surface.points.size(), false);
-  for (const auto& [a, b] : constraints) used[a] = used[b] = true;
-  for (std::size_t i = 0; i < surface.points.size(); ++i) {
+  // (DESIGN §4: minimum density). Points added for contact lines keep index
+  // -1, so their 3D position comes from the input triangles.
+  std::vector<bool> used(all_points.size(), false);
+  for (const auto& [a, b] : plan.polygon_edges) used[a] = used[b] = true;
+  for (const auto& [a, b] : plan.contact_edges) used[a] = used[b] = true;
+  for (std::size_t i = 0; i < all_points.size(); ++i) {
     if (!used[i]) continue;
-    handles[i] = cdt.insert(q[i]);
-    if (handles[i]->info().index < 0) handles[i]->info().index = static_cast<int>(i);
+    handles[i] = cdt.insert(all_points[i]);
+    if (handles[i]->info().index < 0 && i < surface.points.size()) handles[i]->info().index = static_cast<int>(i);
   }
-  try {
-    for (const auto& [a, b] : constraints) {
-      if (handles[a] != handles[b]) cdt.insert_constraint(handles[a], handles[b]);
-    }
-  } catch (const Cdt::Intersection_of_constraints_exception&) {
-    throw std::runtime_error("polygon edges cross each other");
+  const std::size_t inserted = cdt.number_of_vertices();
+  for (const auto& [a, b] : plan.polygon_edges) {
+    if (handles[a] != handles[b]) cdt.insert_constraint(handles[a], handles[b]);
+  }
+  // Constraints crossing each other get a vertex at the crossing.
+  if (cdt.number_of_vertices() != inserted) throw std::runtime_error("polygon edges cross each other");
+  for (const auto& [a, b] : plan.contact_edges) {
+    if (handles[a] != handles[b]) cdt.insert_constraint(handles[a], handles[b]);
   }
 
   // Polygons that exactly cover each other (a duplicated face) leave no
@@ -685,11 +871,22 @@ double default_max_edge(const Scene& scene) {
   return diagonal / 20.0;
 }
 
-TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options) {
+TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options, const std::vector<Segment3>& contacts,
+                     double contact_tolerance) {
   check_options(options);
   try {
     check_polygons(surface);
-    return surface.planar ? mesh_planar(surface, options) : mesh_curved(surface, options);
+    if (!surface.planar) return mesh_curved(surface, options);
+    if (!contacts.empty()) {
+      // Contact lines sharpen the mesh but are not needed for a valid one:
+      // should they defeat the mesher (near-degenerate crossings), the
+      // surface is meshed as if nothing touched it.
+      try {
+        return mesh_planar(surface, options, contacts, contact_tolerance);
+      } catch (const std::exception&) {
+      }
+    }
+    return mesh_planar(surface, options, {}, 0.0);
   } catch (const std::exception& e) {
     throw std::runtime_error("surface '" + surface.name + "': " + e.what());
   }

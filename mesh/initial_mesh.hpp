@@ -1,6 +1,7 @@
 #pragma once
 // Initial meshing to a minimum density (paper §4.1, fig. 6c; DESIGN §4).
 
+#include "mesh/contact_lines.hpp"
 #include "mesh/scene.hpp"
 #include "mesh/types.hpp"
 
@@ -19,6 +20,9 @@ double default_max_edge(const Scene& scene);
 // isotropic remeshing to h with boundary and sharp features preserved.
 // Faces are counter-clockwise seen from the surface's front.
 // Throws std::runtime_error naming the surface when meshing fails.
-TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options);
+// A planar surface's mesh also has edges along its contact lines
+// (mesh/contact_lines.hpp), ends within contact_tolerance snapped together.
+TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options, const std::vector<Segment3>& contacts = {},
+                     double contact_tolerance = 0.0);
 
 }  // namespace lhr

@@ -5,7 +5,11 @@ namespace lhr {
 SceneModel::SceneModel(const Scene& scene, const MeshingOptions& meshing)
     : scene_(&scene), max_edge_(meshing.max_edge) {
   hierarchies_.reserve(scene.surfaces.size());
-  for (const Surface& surface : scene.surfaces) hierarchies_.emplace_back(mesh_surface(surface, meshing));
+  const double tolerance = contact_tolerance(scene.surfaces);
+  const auto contacts = find_contact_lines(scene.surfaces, tolerance);
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    hierarchies_.emplace_back(mesh_surface(scene.surfaces[s], meshing, contacts[s], tolerance));
+  }
   std::vector<const TriMesh*> meshes;
   for (int s = 0; s < num_surfaces(); ++s) {
     meshes.push_back(&hierarchies_[s].mesh());

@@ -101,6 +101,12 @@ class PathTracer {
   // size.
   std::optional<SurfaceStart> surface_start(const Vec3& x, const Vec3& normal, const Vec3& toward) const;
 
+  // The fraction of a fixed set of directions over start's front hemisphere
+  // whose first hit is the back of a triangle: about 1 when start lies
+  // inside a closed object (a floor point under a box standing on it), 0 in
+  // the open. Deterministic.
+  double enclosed_fraction(const SurfaceStart& start) const;
+
   // One unbiased sample of the radiance leaving start.point toward its
   // front, Le + Kd/π·E, with the machinery of render(); the random numbers
   // are a function of key alone.

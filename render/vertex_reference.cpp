@@ -23,13 +23,13 @@ std::string describe_point(const Vec3& p) {
   return "(" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
 }
 
-// Per vertex: the summed area normal of its faces and the centroid of the
-// face with the widest corner there. Nudging toward that centroid moves
-// into a face for certain, where an average direction over a boundary
-// vertex's fan could leave the surface.
+// Per vertex: the summed area normal of its faces and the centroids of its
+// faces, widest corner first. Nudging toward a centroid moves into a face
+// for certain, where an average direction over a boundary vertex's fan
+// could leave the surface.
 struct VertexFrame {
   Vec3 normal = Vec3(0, 0, 0);
-  Vec3 toward = Vec3(0, 0, 0);
+  std::vector<std::pair<double, Vec3>> faces;  // (corner angle, centroid)
   double widest = -1.0;
 };
 
@@ -63,13 +63,13 @@ std::vector<VertexFrame> vertex_frames(const RawMesh& mesh) {
       const double angle = std::atan2(OpenMesh::cross(e1, e2).norm(), OpenMesh::dot(e1, e2));
       VertexFrame& frame = frames[face[k]];
       frame.normal += area_normal;
-      if (angle > frame.widest) {
-        frame.widest = angle;
-        frame.toward = centroid;
-      }
+      frame.faces.emplace_back(angle, centroid);
+      frame.widest = std::max(frame.widest, angle);
     }
   }
   for (std::size_t v = 0; v < n; ++v) {
+    std::stable_sort(frames[v].faces.begin(), frames[v].faces.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
     if (frames[v].widest < 0) {
       throw std::invalid_argument("vertex " + std::to_string(v) + " at " + describe_point(mesh.points[v]) +
                                   " belongs to no face, so the side it faces is unknown");
@@ -80,6 +80,24 @@ std::vector<VertexFrame> vertex_frames(const RawMesh& mesh) {
     }
   }
   return frames;
+}
+
+// Where a vertex's paths start: nudged into its widest face, unless that
+// start is enclosed. A vertex on a contact line (a floor vertex at the foot
+// of a box) has faces on both sides of it, and the radiance jumps there: its
+// value is the limit from the side that can be seen, so the first face,
+// widest first, whose start is not inside a closed object. (A vertex the
+// solver refined where no face is open keeps its widest face.)
+std::optional<SurfaceStart> vertex_start(const PathTracer& tracer, const Vec3& x, const VertexFrame& frame) {
+  constexpr double kOpen = 0.5;
+  std::optional<SurfaceStart> first;
+  for (const auto& [angle, centroid] : frame.faces) {
+    std::optional<SurfaceStart> start = tracer.surface_start(x, frame.normal, centroid);
+    if (!start) continue;
+    if (tracer.enclosed_fraction(*start) < kOpen) return start;
+    if (!first) first = start;
+  }
+  return first;
 }
 
 // Per-vertex sums over the samples so far, in sample order.
@@ -111,7 +129,7 @@ VertexReference trace_vertex_reference(const PathTracer& tracer, const RawMesh& 
     const std::size_t end = std::min(n, begin + kLocateChunk);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t v = range.begin(); v != range.end(); ++v) {
-        starts[v] = tracer.surface_start(mesh.points[v], frames[v].normal, frames[v].toward);
+        starts[v] = vertex_start(tracer, mesh.points[v], frames[v]);
       }
     });
     for (std::size_t v = begin; v < end; ++v) {

@@ -29,7 +29,9 @@ struct VertexReference {
 
 // mesh: triangles (as `lhr solve` exports them), counter-clockwise seen from
 // their front. A vertex's front is the area-weighted normal of its faces;
-// its paths start from the point nudged into its widest-angled face.
+// its paths start from the point nudged into its widest-angled face that
+// is not inside a closed object (a vertex on the foot of a box standing on
+// a floor takes the limit from the floor around the box).
 // options: spp, seed, target_noise, max_spp and checkpoint as for images
 // (jitter does not apply; checkpoint is called before each vertex and every
 // 1024 samples); sample s of vertex v uses the random numbers of

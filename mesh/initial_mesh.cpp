@@ -449,7 +449,7 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options) {
   std::vector<Cdt::Vertex_handle> handles(surface.points.size());
   // Only constraint ends are inserted: an input vertex inside a flat part
   // carries no shape, and keeping it would force the mesh finer than h
-  // (DESIGN §4: minimum density).
+  // (docs/design.md §4: minimum density).
   std::vector<bool> used(surface.points.size(), false);
   for (const auto& [a, b] : constraints) used[a] = used[b] = true;
   for (std::size_t i = 0; i < surface.points.size(); ++i) {
@@ -681,7 +681,7 @@ double default_max_edge(const Scene& scene) {
     throw std::runtime_error("scene '" + scene.source +
                              "' has no extent, so no default maximum edge length; give --max-edge");
   }
-  // DESIGN §4: the minimum density h defaults to a fraction of the scene size.
+  // docs/design.md §4: the minimum density h defaults to a fraction of the scene size.
   return diagonal / 20.0;
 }
 

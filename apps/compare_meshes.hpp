@@ -1,6 +1,6 @@
 #pragma once
 // `lhr compare MESH.ply REF.ply`: per-vertex radiance of an exported mesh
-// against `lhr reference --at-vertices` (DESIGN §5 "How accuracy is judged").
+// against `lhr reference --at-vertices` (docs/design.md §5 "How accuracy is judged").
 
 #include <filesystem>
 

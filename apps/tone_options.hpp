@@ -2,7 +2,7 @@
 // Tone-map flags (reference, compare; `lhr solve` declares its own with its
 // own help) and the choice they make. Precedence: a flag given on
 // the command line, else the scene file's "tone_map" block, else the flag's
-// default (DESIGN §3, §4 "Tone map M").
+// default (docs/design.md §3, §4 "Tone map M").
 
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Image files through OpenImageIO: PNG of display values, EXR of linear
-// radiance (DESIGN §5). Written atomically.
+// radiance (docs/design.md §5). Written atomically.
 
 #include <filesystem>
 #include <vector>
@@ -10,7 +10,7 @@
 
 namespace lhr {
 
-// Row-major RGB, row 0 at the top (pixel (0,0) is top-left, DESIGN §3).
+// Row-major RGB, row 0 at the top (pixel (0,0) is top-left, docs/design.md §3).
 struct Image {
   int width = 0;
   int height = 0;

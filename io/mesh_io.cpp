@@ -32,7 +32,7 @@ namespace lhr {
 
 namespace {
 
-// DESIGN §3: the PLY carries linear radiance beside the display colour under
+// docs/design.md §3: the PLY carries linear radiance beside the display colour under
 // these names, so other tools show the colour and lhr can read values back.
 constexpr const char* kRadianceNames[3] = {"radiance_r", "radiance_g", "radiance_b"};
 constexpr const char* kStderrName = "radiance_stderr";
@@ -69,7 +69,7 @@ bool read_channel(const OpenMesh::ArrayKernel& kernel, const char* name, std::ve
   return false;
 }
 
-// DESIGN §3 output: what the colour and radiance properties mean, in the
+// docs/design.md §3 output: what the colour and radiance properties mean, in the
 // header where a reader of the file finds it.
 // The PLY header says what its colour and radiance properties are; OpenMesh
 // writes none, so they go in after its format line.

@@ -1,5 +1,5 @@
 #pragma once
-// Mesh files through OpenMesh's readers and writers (DESIGN §3 output).
+// Mesh files through OpenMesh's readers and writers (docs/design.md §3 output).
 
 #include <array>
 #include <cstdint>
@@ -24,7 +24,7 @@ struct ExportMesh {
   // (lhr reference --at-vertices), PLY property radiance_stderr; empty = none.
   std::vector<double> radiance_stderr;
   // What red green blue and radiance_r/g/b hold, written as PLY header
-  // comments (DESIGN §3 output); a command writing something else says so.
+  // comments (docs/design.md §3 output); a command writing something else says so.
   std::string colour_meaning = "display colour, tone-mapped and gamma-encoded (gamma 2.2), not linear";
   std::string radiance_meaning = "linear radiance, in the units of the scene's emission Ke";
 };

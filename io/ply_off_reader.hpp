@@ -6,7 +6,7 @@
 // not parse turns into silent zeros, and the binary readers run on past the
 // end of the data. Everything they would trust is checked here before they
 // see it, so every bad file is one InputError naming the file and the line
-// or element (DESIGN §3; docs/robustness.md lists what the fuzzers found).
+// or element (docs/design.md §3; docs/robustness.md lists what the fuzzers found).
 
 #include <filesystem>
 

@@ -18,7 +18,7 @@ namespace {
 
 // The scenes are built in metres, y up, from axis-aligned rectangles and
 // boxes. Every face is counter-clockwise seen from the open space it faces
-// (DESIGN §3: only the front side reflects and emits).
+// (docs/design.md §3: only the front side reflects and emits).
 
 enum FaceBits : unsigned {
   kNegX = 1u << 0,
@@ -87,7 +87,7 @@ class SoupBuilder {
   }
 
   // Vertices are shared inside a group only: surfaces never share vertices
-  // (DESIGN §3), and faces of one group that meet along a full edge are
+  // (docs/design.md §3), and faces of one group that meet along a full edge are
   // connected for the surface split.
   void begin_group(const std::string& name) {
     soup_.groups.push_back(name);

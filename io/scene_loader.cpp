@@ -28,7 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Faces without a material, and materials whose only colour is a texture
-// that cannot be found, reflect this grey (DESIGN §3).
+// that cannot be found, reflect this grey (docs/design.md §3).
 constexpr double kDefaultGrey = 0.5;
 
 using text::checked_face;
@@ -178,7 +178,7 @@ void check_rgb(const fs::path& mtl, const Line& line, const std::string& materia
           mtl, line.number,
           key + " of material " + show(material) + ": " + show(line.tokens[k]) + " is not a number");
     }
-    // DESIGN §3: Kd = 1 conserves energy and is accepted (with a warning
+    // docs/design.md §3: Kd = 1 conserves energy and is accepted (with a warning
     // from load_polygon_soup); above 1 a surface would create light.
     if (reflectance && !(*v >= 0.0 && *v <= 1.0)) {
       throw InputError(mtl, line.number,
@@ -450,7 +450,7 @@ int colour_material(const Rgb& colour, std::map<std::array<int, 3>, int>& by_key
     char name[16];
     std::snprintf(name, sizeof name, "rgb_%02x%02x%02x", key[0], key[1], key[2]);
     m.name = name;
-    // 8-bit white is reflectance 1, as Kd 1 in an MTL (DESIGN §3).
+    // 8-bit white is reflectance 1, as Kd 1 in an MTL (docs/design.md §3).
     for (int k = 0; k < 3; ++k) m.reflectance[k] = key[k] / 255.0;
     soup.materials.push_back(m);
   }
@@ -665,7 +665,7 @@ PolygonSoup load_polygon_soup(const std::filesystem::path& path, std::vector<std
   } else {
     throw InputError(path, "unsupported file type " + show(ext) + " (expected .obj, .ply or .off)");
   }
-  // DESIGN §3: reflectance 1 is allowed, but light between such surfaces
+  // docs/design.md §3: reflectance 1 is allowed, but light between such surfaces
   // never dies out, so a closed scene of them does not converge.
   std::string white;
   for (const Material& m : soup.materials) {

@@ -1,5 +1,5 @@
 #pragma once
-// Scene loading (DESIGN §3): NAME.scene.json with camera and settings, or a
+// Scene loading (docs/design.md §3): NAME.scene.json with camera and settings, or a
 // bare OBJ/MTL, PLY or OFF. All errors are InputError with one line naming
 // file and line/element.
 

@@ -1,7 +1,7 @@
 #pragma once
 // Text scanning shared by the loaders (io/ internal): files split into
 // tokens with line numbers, numbers parsed strictly and faces checked, so
-// that every problem becomes an InputError naming file and line (DESIGN §3).
+// that every problem becomes an InputError naming file and line (docs/design.md §3).
 
 #include <filesystem>
 #include <functional>

@@ -1,5 +1,5 @@
 #pragma once
-// The mean colour of an image texture, as a diffuse reflectance (DESIGN §3):
+// The mean colour of an image texture, as a diffuse reflectance (docs/design.md §3):
 // lhr's surfaces carry one reflectance each, so an MTL material that gives
 // only a `map_Kd` texture reflects the texture's average.
 

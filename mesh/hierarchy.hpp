@@ -1,5 +1,5 @@
 #pragma once
-// The restricted triangle quadtree of one surface (paper §3, figs. 2-4; DESIGN §4
+// The restricted triangle quadtree of one surface (paper §3, figs. 2-4; docs/design.md §4
 // "Hierarchy").
 //
 // OpenMesh owns the connectivity of the initial triangulation (each face roots

@@ -631,7 +631,7 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options, const
   std::vector<Cdt::Vertex_handle> handles(all_points.size());
   // Only constraint ends are inserted: an input vertex inside a flat part
   // carries no shape, and keeping it would force the mesh finer than h
-  // (DESIGN §4: minimum density). Points added for contact lines keep index
+  // (docs/design.md §4: minimum density). Points added for contact lines keep index
   // -1, so their 3D position comes from the input triangles.
   std::vector<bool> used(all_points.size(), false);
   for (const auto& [a, b] : plan.polygon_edges) used[a] = used[b] = true;
@@ -867,7 +867,7 @@ double default_max_edge(const Scene& scene) {
     throw std::runtime_error("scene '" + scene.source +
                              "' has no extent, so no default maximum edge length; give --max-edge");
   }
-  // DESIGN §4: the minimum density h defaults to a fraction of the scene size.
+  // docs/design.md §4: the minimum density h defaults to a fraction of the scene size.
   return diagonal / 20.0;
 }
 

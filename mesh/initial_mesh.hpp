@@ -1,5 +1,5 @@
 #pragma once
-// Initial meshing to a minimum density (paper §4.1, fig. 6c; DESIGN §4).
+// Initial meshing to a minimum density (paper §4.1, fig. 6c; docs/design.md §4).
 
 #include "mesh/contact_lines.hpp"
 #include "mesh/scene.hpp"

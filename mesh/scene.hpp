@@ -1,5 +1,5 @@
 #pragma once
-// The scene contract (DESIGN §3) as plain values: what loaders produce and
+// The scene contract (docs/design.md §3) as plain values: what loaders produce and
 // meshing, solvers and renderers consume.
 
 #include <optional>
@@ -55,7 +55,7 @@ struct Surface {
   double area = 0.0;
 };
 
-// The tone-map block of a scene file (DESIGN §4 "Tone map M").
+// The tone-map block of a scene file (docs/design.md §4 "Tone map M").
 struct ToneMapSettings {
   std::optional<std::string> kind;  // "tumblin-rushmeier" or "linear"
   std::optional<double> world_adaptation;  // scene units; 0 = log-average the camera sees

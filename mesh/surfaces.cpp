@@ -18,10 +18,10 @@ namespace lhr {
 namespace {
 
 // Faces whose area is at most this fraction of the squared bounding-box
-// diagonal carry no energy and have no usable normal (DESIGN §3).
+// diagonal carry no energy and have no usable normal (docs/design.md §3).
 constexpr double kZeroAreaRelative = 1e-12;
 // A surface is planar when every point lies within this fraction of its
-// extent from the best-fit plane; planar surfaces get the 2D mesher (DESIGN §4).
+// extent from the best-fit plane; planar surfaces get the 2D mesher (docs/design.md §4).
 constexpr double kPlanarRelative = 1e-6;
 
 // Twice the vector area of a polygon (Newell's method). Summing cross

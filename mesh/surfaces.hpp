@@ -1,5 +1,5 @@
 #pragma once
-// Grouping loaded faces into surfaces (DESIGN §3).
+// Grouping loaded faces into surfaces (docs/design.md §3).
 
 #include <utility>
 #include <vector>

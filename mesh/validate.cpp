@@ -239,7 +239,7 @@ std::vector<Violation> check_conforming_mesh(const RawMesh& mesh, const Conformi
     geometric[f] = std::all_of(fv.begin(), fv.end(), [&](int v) { return finite_point[v] != 0; });
   }
 
-  // Tolerance from the extent of what the faces span (DESIGN §6: relative,
+  // Tolerance from the extent of what the faces span (docs/design.md §6: relative,
   // so the check does not depend on scene units).
   Vec3 lo(std::numeric_limits<double>::max());
   Vec3 hi(-std::numeric_limits<double>::max());
@@ -373,7 +373,7 @@ std::vector<Violation> check_conforming_mesh(const RawMesh& mesh, const Conformi
   }
 
   // --- T-junction cracks inside a connected component -----------------------
-  // DESIGN §3: surfaces meet with coincident but distinct vertices, so only a
+  // docs/design.md §3: surfaces meet with coincident but distinct vertices, so only a
   // vertex of the edge's own component (linked by shared indices) is a crack.
   if (!boundary.empty() && diagonal > 0.0) {
     UnionFind components(points.size());

@@ -1,5 +1,5 @@
 #pragma once
-// Invariant checks (DESIGN §6): conforming meshes as files hold them, and
+// Invariant checks (docs/design.md §6): conforming meshes as files hold them, and
 // surface hierarchies while a solver refines them.
 
 #include <string>

@@ -299,7 +299,7 @@ double ClassicalSolver::estimate_form_factor(const Element& receiver, const Elem
   double estimate = std::max(bound * cos_i * cos_j, (cos_i == 0.0 || cos_j == 0.0) ? 0.5 * bound : 0.0);
   // The centre misses a shooter that is smaller than the receiver and close
   // to it: a small light just above a large element puts all its power into
-  // a spot away from the centre (DESIGN §5, small lights). The disc seen from the
+  // a spot away from the centre (docs/design.md §5, small lights). The disc seen from the
   // receiver's point nearest the shooter's centre catches it; it adds
   // nothing where that point is on the shooter's horizon (elements in
   // contact, already covered above).

@@ -1,6 +1,6 @@
 #pragma once
 // Classical hierarchical radiosity (Hanrahan, Salzman, Aupperle 1991): the
-// constant-element baseline the paper's method is charted against (DESIGN §4
+// constant-element baseline the paper's method is charted against (docs/design.md §4
 // "Classical HR baseline").
 //
 // Elements are the quadtree nodes of every surface and, above its roots, a

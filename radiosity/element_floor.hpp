@@ -1,11 +1,11 @@
 #pragma once
-// The smallest elements refinement may make (DESIGN §4 "Limits the user
+// The smallest elements refinement may make (docs/design.md §4 "Limits the user
 // controls"), per interaction.
 //
 // A floor fixed for the whole scene (h/32 by default) cannot resolve what a
 // surface much smaller than it does to its neighbours: a light of side a at
 // height d ≪ h over a wall puts all its power into a spot of size about a + d
-// (DESIGN §5, small lights), and an element larger than that spot either misses it
+// (docs/design.md §5, small lights), and an element larger than that spot either misses it
 // (a constant element valued at its centre) or spreads one vertex's value
 // over its whole hat function (point collocation, linear basis). So the
 // default floor shrinks to a fraction of the partner surface's size in the

@@ -1,5 +1,5 @@
 #pragma once
-// Unoccluded point-to-polygon form factors (DESIGN §4 "Linear basis, point
+// Unoccluded point-to-polygon form factors (docs/design.md §4 "Linear basis, point
 // collocation": Σ_l F^l(x,j) is the exact point-to-triangle form factor).
 
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// Interaction graph (paper §5, DESIGN §4): what one shooter surface S gives one
+// Interaction graph (paper §5, docs/design.md §4): what one shooter surface S gives one
 // receiver surface R. Its leaves are a restricted quadtree cut of R's
 // hierarchy (the levels where S contributes); its vertices are the corners of
 // those leaves, each with the links from S's elements and S's contribution

@@ -97,7 +97,7 @@ void LinearSolver::sync_vertices(int s) {
   st.radiance.resize(nv, model_.material(s).emission);
   // A node at a surface's boundary or crease has no value of its own on a
   // shooter's plane: it takes the limit from inside the first element that
-  // made it (DESIGN §4, corners). Roots first, then each split's centre child,
+  // made it (docs/design.md §4, corners). Roots first, then each split's centre child,
   // whose corners are the split's edge midpoints.
   const auto set_approach = [&](VertexId v, NodeId from) {
     if (st.approach[v].sqrnorm() > 0) return;
@@ -175,7 +175,7 @@ void LinearSolver::update_spread() {
 }
 
 double LinearSolver::representation_error(int s, const GraphLink& link, const Rgb& rho) const {
-  // DESIGN §4, shooter oracle: the paper's test weighs what a link carries,
+  // docs/design.md §4, shooter oracle: the paper's test weighs what a link carries,
   // not how wrong its shooter's values may be for this receiver; the link's
   // transfer is off by at most its form factor times the element's spread
   // (a whole floor's mean for a block face that sees only the floor's dark
@@ -296,7 +296,7 @@ bool LinearSolver::link_new_shooters() {
 }
 
 std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, VertexId v) const {
-  // DESIGN §4 "Linear basis, point collocation", curved surfaces: the
+  // docs/design.md §4 "Linear basis, point collocation", curved surfaces: the
   // geometry is the faceted initial mesh, so a node on an initial vertex or
   // edge has no single normal. Its hat function spans every initial face
   // whose closure holds it, and each face sees the scene from its own plane;
@@ -651,7 +651,7 @@ double LinearSolver::node_importance(int s, NodeId n) const {
 }
 
 void LinearSolver::carry_importance_back() {
-  // DESIGN §4 "Importance": what the camera sees of a receiver node is worth
+  // docs/design.md §4 "Importance": what the camera sees of a receiver node is worth
   // ρ F^l of it at the shooter's element (the same links, read backwards);
   // one bounce per iteration, from the previous iteration's importance, so
   // it converges with the radiance (ρ Σ F < 1).
@@ -857,12 +857,12 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
         // S's reflected power that linear interpolation misplaces across the
         // edge: half the second difference of its contribution, over both
         // triangles. It must be small against the emitted power whatever the
-        // camera sees or the tone map shows (DESIGN §5: the exported mesh is
+        // camera sees or the tone map shows (docs/design.md §5: the exported mesh is
         // the product). A small light close to R puts a peak narrower than
         // an element on one vertex, and the interpolant spreads that
         // vertex's value over its hat function: up to 2000 times the light's
         // power on a sub-pixel spot that the image-space test never splits
-        // (DESIGN §5, small lights; tests/test_small_lights.cpp).
+        // (docs/design.md §5, small lights; tests/test_small_lights.cpp).
         const double misplaced = 0.5 * std::abs(own(idx[0]) + own(idx[1]) - own(idx[2]) - own(idx[3])) *
                                  (model_.area(r, leaf) + model_.area(r, across));
         const bool by_power = M_PI * misplaced >= kPowerTolerance * total_emitted_power_;

@@ -1,6 +1,6 @@
 #pragma once
 // The paper's method: linear hierarchical radiosity with the image-space
-// refinement criterion (paper §3–5; DESIGN §4).
+// refinement criterion (paper §3–5; docs/design.md §4).
 //
 // Values live at the vertices of every surface's quadtree (point collocation
 // of a linear basis, three hat functions per triangle). Each (shooter S,
@@ -75,7 +75,7 @@ struct LinearOptions {
   std::vector<ViewSample> view;
   // Display intensity M for the receiver oracle, given the log-average and
   // the largest luminance the camera sees now (recomputed each iteration).
-  // Default: Tumblin–Rushmeier with the DESIGN §4 defaults.
+  // Default: Tumblin–Rushmeier with the docs/design.md §4 defaults.
   std::function<std::unique_ptr<ToneMap>(double log_average, double brightest)> tone_map;
   // Called between the phases of an iteration; may throw to abandon the
   // solve (an interrupted run), leaving the solver unusable.

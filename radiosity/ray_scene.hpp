@@ -1,6 +1,6 @@
 #pragma once
 // All visibility goes through one Embree scene over every surface triangle
-// (DESIGN §2, radiosity/): shadow rays for transport coefficients and the
+// (docs/design.md §2, radiosity/): shadow rays for transport coefficients and the
 // oracles, primary rays for images.
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// The receiver oracle of paper §4.1, per interaction-graph edge (DESIGN §4):
+// The receiver oracle of paper §4.1, per interaction-graph edge (docs/design.md §4):
 // between triangles left and right with edge vertices 1,2 and opposite
 // vertices 3,4, how much would the displayed image change if S's
 // contribution were refined across that edge?

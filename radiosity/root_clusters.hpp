@@ -1,5 +1,5 @@
 #pragma once
-// Shooters above the quadtree roots (DESIGN §4 "Progressive linking"): a
+// Shooters above the quadtree roots (docs/design.md §4 "Progressive linking"): a
 // binary tree of clusters of a surface's initial triangles whose top is the
 // whole surface, so a shooter starts as one element and opens up only as far
 // as the shooter oracle asks.

@@ -1,6 +1,6 @@
 #pragma once
 // How far a shooter element's representation can be from the radiance it
-// stands for (DESIGN §4, shooter oracle). A link carries an element's basis
+// stands for (docs/design.md §4, shooter oracle). A link carries an element's basis
 // values — a cluster's mean, a triangle's corner values — to a receiver that
 // may see only part of it (the dark floor in front of a block, not the floor's
 // lit middle); what it carries is off by at most the link's form factor times

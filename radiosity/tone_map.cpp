@@ -14,7 +14,7 @@ namespace {
 constexpr double kCdPerLambert = 1e4 / M_PI;
 
 // The range of adaptation luminances, as log10 lamberts, where TR93's fitted
-// α(x) = 0.4x + 2.92 and β(x) = −0.4x² − 2.584x + 2.0208 (DESIGN §4) describe
+// α(x) = 0.4x + 2.92 and β(x) = −0.4x² − 2.584x + 2.0208 (docs/design.md §4) describe
 // vision. TR93 reads log10 B = α(x_a)·x + β(x_a) as the brightness of luminance x
 // seen adapted to x_a (Stevens' brightness functions): adapting to more light
 // must dim the adapting luminance itself, ∂/∂x_a = 0.4x_a + β'(x_a) =
@@ -69,7 +69,7 @@ TumblinRushmeierToneMap::TumblinRushmeierToneMap(const TumblinRushmeierParams& p
 
 double TumblinRushmeierToneMap::display_luminance_cd_m2(double world_luminance) const {
   if (!(world_luminance > 0)) return 0.0;
-  // DESIGN §4: log10 L_d = (α(L_wa)/α(L_da))·log10 L_w + (β(L_wa) − β(L_da))/α(L_da), in lamberts;
+  // docs/design.md §4: log10 L_d = (α(L_wa)/α(L_da))·log10 L_w + (β(L_wa) − β(L_da))/α(L_da), in lamberts;
   // over- or underflow of 10^x gives +inf or 0, never NaN.
   const double x_w = std::log10(world_luminance) + log_lamberts_per_unit_;
   return std::pow(10.0, exponent_ * x_w + log_multiplier_) * kCdPerLambert;

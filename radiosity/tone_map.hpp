@@ -1,6 +1,6 @@
 #pragma once
 // Tone mapping M: linear radiance -> display intensity in [0,1] (paper §4.1
-// "Map", ref. 18; DESIGN §4 "Tone map M"). Used by the receiver oracle, the
+// "Map", ref. 18; docs/design.md §4 "Tone map M"). Used by the receiver oracle, the
 // PNG images and the exported vertex colours alike.
 
 #include <array>
@@ -34,7 +34,7 @@ struct TumblinRushmeierParams {
   double gamma = 2.2;
 };
 
-// Tumblin–Rushmeier 1993 (paper ref. 18), with the constants of DESIGN §4. The
+// Tumblin–Rushmeier 1993 (paper ref. 18), with the constants of docs/design.md §4. The
 // adaptation luminances are held to the range where the model cannot flatten or
 // invert (at least ≈1.1·10⁻³ cd/m², see tone_map.cpp), so display() is monotone
 // non-decreasing in the world luminance at every adaptation.

@@ -19,7 +19,7 @@ Vec3 unit_normal(const std::array<Vec3, 3>& t) {
 
 // The point the kernel and shadow rays start from: x itself, nudged toward the
 // receiver's interior so that a node on a shooter's plane sees it from the
-// side its form factor limit was taken on (DESIGN §4: finite in corners).
+// side its form factor limit was taken on (docs/design.md §4: finite in corners).
 Vec3 kernel_origin(const ReceiverPoint& r, const RayScene& rays) {
   return r.x + 8.0 * rays.epsilon() * r.approach;
 }

@@ -1,5 +1,5 @@
 #pragma once
-// Transport coefficients of the linear basis (paper §3, DESIGN §4 "Linear
+// Transport coefficients of the linear basis (paper §3, docs/design.md §4 "Linear
 // basis, point collocation"): from a shooter triangle j to a receiver node x,
 //   F^l(x,j) = ∫_Tj N_j^l(y) cosθx cosθy V(x,y) / (π r²) dA_y,   l = 0,1,2.
 // Σ_l F^l without V is the exact point-to-triangle form factor (Lambert's

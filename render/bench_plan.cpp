@@ -259,7 +259,7 @@ std::vector<Chart> bench_charts(const std::string& title, const std::vector<Benc
     }
     return series;
   };
-  // DESIGN §5: the relative luminance norm and the mean ratio are the
+  // docs/design.md §5: the relative luminance norm and the mean ratio are the
   // primary figures (top row); the paper's display-value norm saturates near
   // 100 % on dim tone-mapped images, so it and the RMSE of the display
   // values, which still separates the runs there, are secondary (bottom row).

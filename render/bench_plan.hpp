@@ -1,5 +1,5 @@
 #pragma once
-// What `lhr bench` runs and what it reports (issue 5, DESIGN §5): the sweep
+// What `lhr bench` runs and what it reports (issue 5, docs/design.md §5): the sweep
 // of both radiosity methods and the path tracer over their cost parameters,
 // the command line of each run, and bench.csv. No process is started here,
 // so all of it is testable on its own (the sweep itself: render/bench_sweep).

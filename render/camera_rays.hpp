@@ -1,5 +1,5 @@
 #pragma once
-// Primary rays of the scene camera (DESIGN §3: pinhole, right-handed, vertical
+// Primary rays of the scene camera (docs/design.md §3: pinhole, right-handed, vertical
 // field of view over the full image height, pixel (0,0) top-left, one ray
 // through each pixel centre).
 

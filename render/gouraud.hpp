@@ -1,7 +1,7 @@
 #pragma once
 // Gouraud view of a solution (paper §4.1: the image is the linear
 // interpolation of vertex values over the triangle seen at each pixel;
-// DESIGN §5): one Embree primary ray per pixel centre, barycentric
+// docs/design.md §5): one Embree primary ray per pixel centre, barycentric
 // interpolation over the conforming leaf triangle hit.
 
 #include <cstdint>

@@ -52,7 +52,7 @@ double ratio_of_sums(const LuminanceSums& sums) {
   return sums.image == 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
 }
 
-// DESIGN §5: the denominator of a pixel's relative error, never below the
+// docs/design.md §5: the denominator of a pixel's relative error, never below the
 // floor, so near-black reference pixels are judged by an absolute error.
 double relative_scale(double reference_luminance, double floor) { return std::max(reference_luminance, floor); }
 

@@ -1,5 +1,5 @@
 #pragma once
-// How close an image is to a reference (DESIGN §5 "How accuracy is judged").
+// How close an image is to a reference (docs/design.md §5 "How accuracy is judged").
 //
 // Primary: the relative norm on linear luminance. The truth is radiance, so
 // a pixel is within t when |Y − Y_ref| ≤ t · max(Y_ref, f · mean Y_ref),
@@ -15,7 +15,7 @@
 // the tone map's per-channel output in [0,1] (gamma applied), and a pixel's
 // difference is the largest over its three channels. With a dim tone map
 // every method passes the display norm, so it cannot rank methods or catch a
-// bias (DESIGN §5); it is kept to compare with the paper's figures.
+// bias (docs/design.md §5); it is kept to compare with the paper's figures.
 //
 // Background pixels (mask 0) are left out of every figure.
 
@@ -29,7 +29,7 @@
 
 namespace lhr {
 
-// DESIGN §5: the floor of the relative norm, a fraction of mean Y_ref.
+// docs/design.md §5: the floor of the relative norm, a fraction of mean Y_ref.
 constexpr double kLuminanceFloor = 0.01;
 
 struct ImageMetrics {

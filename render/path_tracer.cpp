@@ -314,7 +314,7 @@ struct PathTracer::Impl {
   Rgb radiance(const Vec3& direction, std::optional<Hit> hit, SampleStream& rng) const {
     if (!hit) return Rgb(0, 0, 0);
     const Triangle& tri = triangles[hit->triangle];
-    if (OpenMesh::dot(tri.normal, direction) >= 0) return Rgb(0, 0, 0);  // back sides are black (DESIGN §3)
+    if (OpenMesh::dot(tri.normal, direction) >= 0) return Rgb(0, 0, 0);  // back sides are black (docs/design.md §3)
     const Vec3 x = surface_point(*hit);
     return radiance_leaving(hit->triangle, x, ray_origin(x, tri), rng);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// The reference image (DESIGN §5 "Reference"): unbiased Monte Carlo path
+// The reference image (docs/design.md §5 "Reference"): unbiased Monte Carlo path
 // tracing of the Lambertian scenes of the scene contract (§3), with
 // next-event estimation on emitters (triangles picked in proportion to their
 // power, points uniform by area), cosine-weighted bounces, the two combined
@@ -28,7 +28,7 @@ struct PathTraceOptions {
   double target_noise = 0.0;
   int max_spp = 1024;
   // false: every sample through the pixel centre, the point the Gouraud view
-  // samples (DESIGN §5), so the metrics compare values at the same points and
+  // samples (docs/design.md §5), so the metrics compare values at the same points and
   // edges are not penalised for aliasing; true: samples uniform over each
   // pixel (box filter), an antialiased image.
   bool jitter = false;
@@ -63,7 +63,7 @@ struct ReferenceImage {
 };
 
 // Where paths for the radiance leaving a given surface point start (the
-// per-vertex reference, DESIGN §5 "How accuracy is judged").
+// per-vertex reference, docs/design.md §5 "How accuracy is judged").
 struct SurfaceStart {
   int triangle = -1;  // the scene triangle the point lies on: its Kd, Ke and normal apply
   Vec3 point;         // on that triangle

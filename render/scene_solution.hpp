@@ -1,6 +1,6 @@
 #pragma once
 // One solve of a scene, from meshing to the Gouraud view, with either method:
-// what `lhr solve` writes and what `lhr bench` sweeps (DESIGN §1 outputs).
+// what `lhr solve` writes and what `lhr bench` sweeps (docs/design.md §1 outputs).
 
 #include <functional>
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 // What a solution looks like from outside: per surface the conforming mesh
 // with radiance and display colour at every vertex, the tone map chosen for
-// the scene camera, and the Gouraud images (DESIGN §1 outputs).
+// the scene camera, and the Gouraud images (docs/design.md §1 outputs).
 
 #include <memory>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// Per-surface means of an image against its reference (DESIGN §5 "How
+// Per-surface means of an image against its reference (docs/design.md §5 "How
 // accuracy is judged": per-surface means back the pixel norms). A solver's
 // bias is regional — one face too bright, another too dark — and a pixel
 // count hides which; the mean linear radiance of each surface over the

@@ -1,6 +1,6 @@
 #pragma once
 // How close a mesh's vertex radiance is to a path-traced reference at the
-// same vertices (DESIGN §5 "How accuracy is judged": the per-vertex relative
+// same vertices (docs/design.md §5 "How accuracy is judged": the per-vertex relative
 // error of the exported mesh). Per vertex the relative luminance error
 // |Y − Y_ref| / max(Y_ref, floor), the floor being 1 % of the mean Y_ref so
 // that vertices in shadow do not turn noise into huge relative errors.

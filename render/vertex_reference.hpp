@@ -1,10 +1,10 @@
 #pragma once
-// The path-traced reference at the vertices of an exported mesh (DESIGN §5
+// The path-traced reference at the vertices of an exported mesh (docs/design.md §5
 // "How accuracy is judged": the mesh is the product, so it is measured
 // directly and not only through one camera). Each vertex gets an unbiased
 // estimate of the radiance leaving it, L(x) = Le(x) + ρ(x)/π·E(x), on its
 // own surface's side: a vertex on a crease or in a corner belongs to one
-// surface (DESIGN §3) and takes the limit from inside that surface.
+// surface (docs/design.md §3) and takes the limit from inside that surface.
 
 #include <functional>
 #include <vector>

@@ -1,4 +1,4 @@
-// Curved and skewed surfaces (DESIGN §3: a non-planar polygon or a smooth
+// Curved and skewed surfaces (docs/design.md §3: a non-planar polygon or a smooth
 // tessellation is one curved surface): both methods solve them, a closed
 // curved surface lights itself (the furnace inside a sphere), a skewed quad
 // lit by a light gets ρ·Le·F at its nodes, and a sphere in a lit box exports

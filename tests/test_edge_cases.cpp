@@ -1,4 +1,4 @@
-// Numerical edge cases (issue "Stability and hostile input", DESIGN §6): each
+// Numerical edge cases (issue "Stability and hostile input", docs/design.md §6): each
 // has a bounded, finite, deterministic outcome with both methods.
 
 #include <gtest/gtest.h>
@@ -125,7 +125,7 @@ TEST(EdgeCases, AlmostWhiteFurnaceConverges) {
 }
 
 TEST(EdgeCases, WhiteFurnaceStopsAtTheIterationLimit) {
-  // ρ = 1 (Kd 1 is accepted, DESIGN §3) in a closed box: nothing absorbs,
+  // ρ = 1 (Kd 1 is accepted, docs/design.md §3) in a closed box: nothing absorbs,
   // so each Jacobi iteration adds one more bounce of Le and there is no
   // fixed point; L after n gathers is Le·(n + 1) where the form factors sum
   // to 1. Both solvers end at their iteration limit with that finite value.

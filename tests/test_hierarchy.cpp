@@ -1,4 +1,4 @@
-// The restricted triangle quadtree (paper §3, DESIGN §4 "Hierarchy"): splits,
+// The restricted triangle quadtree (paper §3, docs/design.md §4 "Hierarchy"): splits,
 // shared midpoints, forced splits, T-vertices and the conforming export.
 
 #include <gtest/gtest.h>

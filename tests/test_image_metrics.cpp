@@ -1,4 +1,4 @@
-// The relative luminance norm (DESIGN §5, the primary figure), the paper's
+// The relative luminance norm (docs/design.md §5, the primary figure), the paper's
 // display-value norm and the companion metrics on synthetic image pairs whose
 // answers follow from their construction.
 

@@ -1,4 +1,4 @@
-// Initial meshing (DESIGN §4): planar surfaces by constrained Delaunay
+// Initial meshing (docs/design.md §4): planar surfaces by constrained Delaunay
 // refinement, curved ones by isotropic remeshing. Every check compares against
 // a property of the input computed here independently (areas, boundary,
 // topology, closed-form angles), never against a previous run's numbers.

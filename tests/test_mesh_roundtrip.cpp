@@ -1,4 +1,4 @@
-// Mesh files (DESIGN §3 output): what write_mesh stores is what OpenMesh and
+// Mesh files (docs/design.md §3 output): what write_mesh stores is what OpenMesh and
 // read_raw_mesh read back, the PLY header names the documented properties,
 // failed writes leave the file system as it was, and read_raw_mesh reports
 // files as stored, without repair.
@@ -34,7 +34,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Two surfaces in one file: a square and a triangle standing on the square's
-// edge, with its own copies of the shared corners (DESIGN §3: coincident but
+// edge, with its own copies of the shared corners (docs/design.md §3: coincident but
 // distinct), and values with more digits than a float holds.
 ExportMesh sample_export() {
   ExportMesh m;

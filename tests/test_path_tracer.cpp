@@ -1,4 +1,4 @@
-// The path-traced reference (DESIGN §5) against closed forms: the furnace
+// The path-traced reference (docs/design.md §5) against closed forms: the furnace
 // (radiance Ke/(1−ρ) everywhere) and a receiver lit by one emitter (radiance
 // ρ·Ke·F(x) with the exact point-to-polygon form factor), both within the
 // noise the tracer reports; determinism; and `lhr reference` / `lhr compare`

@@ -1,5 +1,5 @@
 // The failure cases of paper fig. 6, where a refinement criterion on vertex
-// values alone goes wrong, and what lhr does about each (DESIGN §6):
+// values alone goes wrong, and what lhr does about each (docs/design.md §6):
 //  (a) two shooters whose slope changes across an edge cancel in the sum:
 //      the oracle runs per shooter (interaction graph), not on the sum;
 //  (b) a shadow boundary crossing an edge whose vertices have equal values:

@@ -82,7 +82,7 @@ Aabb group_bounds(const PolygonSoup& soup, const std::string& name) {
   return b;
 }
 
-// Independent count of DESIGN §3 surfaces: faces of one group and material,
+// Independent count of docs/design.md §3 surfaces: faces of one group and material,
 // connected through shared edges (by position) whose normals differ by at
 // most the crease angle.
 int reference_surface_count(const PolygonSoup& soup, double crease_deg) {
@@ -340,7 +340,7 @@ TEST_P(GeneratedScenes, CameraIsInsideRoomOneLookingIntoIt) {
   EXPECT_LT(s.camera.fov_y_deg, 180.0);
 }
 
-// DESIGN §3 surfaces counted independently of split_into_surfaces.
+// docs/design.md §3 surfaces counted independently of split_into_surfaces.
 TEST_P(GeneratedScenes, ReferenceSurfaceCountNearThePaper) {
   const GeneratedScene s = generate_scene(GetParam());
   const int paper = GetParam() == "two-rooms" ? kTwoRoomsPaperSurfaces : kFourRoomsPaperSurfaces;

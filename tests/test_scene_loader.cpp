@@ -1,4 +1,4 @@
-// Scene loading and surface splitting (DESIGN §3): what a user's OBJ/MTL,
+// Scene loading and surface splitting (docs/design.md §3): what a user's OBJ/MTL,
 // PLY, OFF and scene JSON turn into.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// A receiver that sees only the dark part of a shooter surface (DESIGN §4,
+// A receiver that sees only the dark part of a shooter surface (docs/design.md §4,
 // shooter oracle): a floor lit from beyond one edge, bright there and dark at
 // the other, and a wall standing over the dark edge. A shooter element that
 // stands for the whole floor with its mean, or a coarse triangle with its

@@ -1,4 +1,4 @@
-// Small lights close to a surface (DESIGN §5 "small lights close to
+// Small lights close to a surface (docs/design.md §5 "small lights close to
 // surfaces"): a non-reflecting square light of side a and radiance 1/a²
 // (power π whatever a) faces a 10×10 wall of ρ = 0.7 from height d. The
 // wall's reflected radiance integrated over it must be

@@ -1,4 +1,4 @@
-// Per-surface means of an image against a reference (DESIGN §5 "How accuracy
+// Per-surface means of an image against a reference (docs/design.md §5 "How accuracy
 // is judged"): the means and ratios of a constructed image whose answer is
 // known, and the path tracer's per-pixel surface map against an analytic
 // ray–plane intersection.

@@ -1,5 +1,5 @@
 // Tone mapping: the Tumblin–Rushmeier operator's defining properties, and that
-// it never inverts or flattens, whatever the adaptation (DESIGN §4).
+// it never inverts or flattens, whatever the adaptation (docs/design.md §4).
 
 #include <gtest/gtest.h>
 

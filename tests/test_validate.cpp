@@ -1,4 +1,4 @@
-// Invariant checks on conforming meshes (DESIGN §3 output, §6 invariants),
+// Invariant checks on conforming meshes (docs/design.md §3 output, §6 invariants),
 // on hand-made meshes whose defects are known by construction, and through
 // `lhr validate` on files.
 
@@ -118,7 +118,7 @@ TEST(CheckConformingMesh, VertexOffTheEdgeBeyondToleranceIsNoTJunction) {
 
 TEST(CheckConformingMesh, TouchingComponentsAreAccepted) {
   // Same geometry as the crack, but the left triangle has its own copies of
-  // A and C: two surfaces meeting, which DESIGN §3 allows.
+  // A and C: two surfaces meeting, which docs/design.md §3 allows.
   RawMesh m = t_junction_square();
   m.points.push_back(m.points[0]);
   m.points.push_back(m.points[2]);

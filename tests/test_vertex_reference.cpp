@@ -1,4 +1,4 @@
-// The path-traced reference at mesh vertices (DESIGN §5 "How accuracy is
+// The path-traced reference at mesh vertices (docs/design.md §5 "How accuracy is
 // judged") against closed forms: a receiver lit by one emitter (radiance
 // ρ·Ke·F(x) with the exact point-to-polygon form factor) with a wall
 // standing on its edge, and the furnace (Ke/(1−ρ) everywhere), at every
@@ -32,7 +32,7 @@ namespace {
 // An n x n grid of triangles over the parallelogram a, b, a+(b−a)+(d−a), d
 // (counter-clockwise seen from its front), with vertices of its own: its
 // boundary and corner vertices coincide with those of its neighbours, as
-// where two surfaces of an exported mesh meet (DESIGN §3).
+// where two surfaces of an exported mesh meet (docs/design.md §3).
 void add_grid(RawMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& d, int n) {
   const int first = static_cast<int>(mesh.points.size());
   for (int j = 0; j <= n; ++j) {

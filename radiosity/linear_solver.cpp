@@ -99,10 +99,21 @@ void LinearSolver::sync_vertices(int s) {
   // shooter's plane: it takes the limit from inside the first element that
   // made it (docs/design.md §4, corners). Roots first, then each split's centre child,
   // whose corners are the split's edge midpoints.
+  // A node on a contact line (the foot of a box on a floor; mesh/contact_lines.hpp)
+  // lies between an open element and a hidden one: it takes the limit from
+  // the open side, the one a viewer sees (docs/accuracy.md, "Contact lines").
+  const Surface& surface = model_.scene().surfaces[s];
+  const RayScene& rays = model_.rays();
+  const auto enclosed = [&](VertexId v, const Vec3& d) {
+    const Vec3 origin = rays.lift(h.point(v) + 8.0 * rays.epsilon() * d, surface.normal);
+    return model_.enclosed_fraction(origin, surface.normal) >= 0.5;
+  };
   const auto set_approach = [&](VertexId v, NodeId from) {
     if (st.approach[v].sqrnorm() > 0) return;
-    const Vec3 d = model_.centroid(s, from) - h.point(v);
-    st.approach[v] = d.norm() > 0 ? d / d.norm() : Vec3(0, 0, 0);
+    Vec3 d = model_.centroid(s, from) - h.point(v);
+    d = d.norm() > 0 ? d / d.norm() : Vec3(0, 0, 0);
+    if (surface.planar && d.sqrnorm() > 0 && enclosed(v, d) && !enclosed(v, -d)) d = -d;
+    st.approach[v] = d;
   };
   for (NodeId n = static_cast<NodeId>(st.synced_nodes); n < static_cast<NodeId>(h.num_nodes()); ++n) {
     const NodeId parent = h.parent(n);

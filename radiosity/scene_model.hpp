@@ -33,6 +33,12 @@ class SceneModel {
   Vec3 normal(int s, NodeId n) const;  // unit, front side
   Vec3 centroid(int s, NodeId n) const;
 
+  // The fraction of a fixed set of directions over the hemisphere of unit
+  // normal n whose first hit from origin is the back of a face: about 1 when
+  // origin lies inside a closed object (a floor point under a box standing
+  // on it), 0 in the open. Deterministic.
+  double enclosed_fraction(const Vec3& origin, const Vec3& n) const;
+
  private:
   const Scene* scene_;
   std::vector<SurfaceHierarchy> hierarchies_;

@@ -94,6 +94,7 @@ void LinearSolver::sync_vertices(int s) {
   const std::size_t nv = h.num_vertices();
   st.parents.resize(nv, {kNoVertex, kNoVertex});
   st.approach.resize(nv, Vec3(0, 0, 0));
+  st.hidden.resize(nv, 0);
   st.radiance.resize(nv, model_.material(s).emission);
   // A node at a surface's boundary or crease has no value of its own on a
   // shooter's plane: it takes the limit from inside the first element that
@@ -112,7 +113,13 @@ void LinearSolver::sync_vertices(int s) {
     if (st.approach[v].sqrnorm() > 0) return;
     Vec3 d = model_.centroid(s, from) - h.point(v);
     d = d.norm() > 0 ? d / d.norm() : Vec3(0, 0, 0);
-    if (surface.planar && d.sqrnorm() > 0 && enclosed(v, d) && !enclosed(v, -d)) d = -d;
+    if (surface.planar && d.sqrnorm() > 0 && enclosed(v, d)) {
+      if (enclosed(v, -d)) {
+        st.hidden[v] = 1;
+      } else {
+        d = -d;
+      }
+    }
     st.approach[v] = d;
   };
   for (NodeId n = static_cast<NodeId>(st.synced_nodes); n < static_cast<NodeId>(h.num_nodes()); ++n) {
@@ -541,7 +548,7 @@ double LinearSolver::push() {
       for (std::size_t v = 0; v < nv; ++v) {
         if (!exact[v]) {
           const auto& [a, b] = st.parents[v];
-          if (a == kNoVertex) {
+          if (a == kNoVertex || st.hidden[v]) {
             contribution[v] = Rgb(0, 0, 0);
             has_ratio[v] = 0;
           } else {

@@ -143,6 +143,9 @@ class LinearSolver {
     std::vector<Rgb> radiance;  // per vertex
     std::vector<std::array<VertexId, 2>> parents;  // per vertex: the edge it is the midpoint of
     std::vector<Vec3> approach;  // per vertex: unit direction into the surface
+    // Per vertex: 1 when the point is enclosed on both sides (a floor vertex
+    // under a box): it receives nothing, whatever its neighbours receive.
+    std::vector<std::uint8_t> hidden;
     std::vector<RootCluster> clusters;
     std::vector<double> root_exposure;  // per root: its fraction open to the scene
     std::vector<Rgb> cluster_radiance;  // mean over each cluster

@@ -69,6 +69,7 @@ void add_contacts(const Surface& planar, double offset, const Surface& other, co
     side[i] = d[i] > tolerance ? 1 : (d[i] < -tolerance ? -1 : 0);
   }
   const auto on_plane = [&](int i) { return other.points[i] - d[i] * n; };
+  const bool covers = other.planar && OpenMesh::dot(other.normal, n) > 0.0;
   std::set<std::uint64_t> taken;
   for (const auto& poly : other.polygons) {
     bool front = false, back = false;
@@ -83,8 +84,10 @@ void add_contacts(const Surface& planar, double offset, const Surface& other, co
       const std::uint64_t key = edge_key(a, b);
       // An edge on the plane bounds what lies on it when its polygon rises
       // in front (the foot of a box), or when it is the outline of a surface
-      // lying flat on the plane (a light on its ceiling).
-      if (!front && !(flat && outline.count(key))) continue;
+      // lying flat on the plane and facing the same way, so covering it (a
+      // light on its ceiling). One facing it instead (a light just over a
+      // wall) hides nothing.
+      if (!front && !(flat && covers && outline.count(key))) continue;
       if (taken.insert(key).second) out.push_back({on_plane(a), on_plane(b)});
     }
     if (!(front && back)) continue;

@@ -24,8 +24,9 @@ double contact_tolerance(const std::vector<Surface>& surfaces);
 // For each surface, the segments (endpoints within `tolerance` of its plane,
 // not yet clipped to its region) where another surface meets its front:
 // edges of the other surface lying on the plane where that surface leaves
-// the plane towards the front, or where it lies flat on the plane (its
-// outline); and the lines where the other surface crosses the plane. Empty
+// the plane towards the front, or where it lies flat on the plane facing
+// the same way (its outline); and the lines where the other surface crosses
+// the plane. Empty
 // for curved surfaces.
 std::vector<std::vector<Segment3>> find_contact_lines(const std::vector<Surface>& surfaces, double tolerance);
 

@@ -88,6 +88,59 @@ double visible_fraction(const ReceiverPoint& receiver, std::span<const std::arra
   return static_cast<double>(clear) / static_cast<double>(segments.size());
 }
 
+// How far from a shooter triangle (in its longest edges, from its centroid)
+// the kernel is smooth enough over it for sampled weights to split its form
+// factor among the corners; nearer, the split is integrated.
+constexpr double kNearShooter = 3.0;
+// Depth of the subdivision that integrates the split: pieces next to x end
+// 2^-6 of the triangle across, where the hat functions vary by 1/64.
+constexpr int kSplitDepth = 6;
+
+double longest_edge(const std::array<Vec3, 3>& t) {
+  return std::sqrt(std::max({(t[1] - t[0]).sqrnorm(), (t[2] - t[1]).sqrnorm(), (t[0] - t[2]).sqrnorm()}));
+}
+
+// F^l = ∫ N^l cosθx cosθy / (π r²) dA without occlusion, for a receiver
+// near the triangle: the triangle is split into pieces, finer toward x, and
+// each piece's exact form factor goes to the corners by the hat values at
+// its centroid. Weighting sample points by the kernel instead lets the few
+// samples nearest x decide the split, while the exact integral is ruled by
+// the region next to x: in a corner, the far (brighter) corners got too
+// much weight and ceiling vertices along a wall read 10–20 % bright.
+std::array<double, 3> near_basis_form_factors(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
+                                              const Vec3* approach) {
+  struct Piece {
+    std::array<Vec3, 3> corner;
+    std::array<Vec3, 3> hat;  // the corners' barycentric coordinates in the shooter
+    int depth;
+  };
+  std::array<double, 3> out{0.0, 0.0, 0.0};
+  std::vector<Piece> stack{{shooter, {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}, 0}};
+  while (!stack.empty()) {
+    const Piece p = stack.back();
+    stack.pop_back();
+    const Vec3 centre = (p.corner[0] + p.corner[1] + p.corner[2]) / 3.0;
+    if (p.depth < kSplitDepth && (receiver.x - centre).norm() < kNearShooter * longest_edge(p.corner)) {
+      std::array<Vec3, 3> mid, mid_hat;
+      for (int k = 0; k < 3; ++k) {
+        mid[k] = 0.5 * (p.corner[k] + p.corner[(k + 1) % 3]);
+        mid_hat[k] = 0.5 * (p.hat[k] + p.hat[(k + 1) % 3]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        stack.push_back({{p.corner[k], mid[k], mid[(k + 2) % 3]}, {p.hat[k], mid_hat[k], mid_hat[(k + 2) % 3]},
+                         p.depth + 1});
+      }
+      stack.push_back({mid, mid_hat, p.depth + 1});
+      continue;
+    }
+    const double f = point_triangle_form_factor(receiver.x, receiver.normal, p.corner, approach);
+    if (!(f > 0.0)) continue;
+    const Vec3 hat = (p.hat[0] + p.hat[1] + p.hat[2]) / 3.0;
+    for (int l = 0; l < 3; ++l) out[l] += f * hat[l];
+  }
+  return out;
+}
+
 }  // namespace
 
 TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
@@ -124,12 +177,25 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
   rays.occluded(segments, blocked);
   ray_count += segments.size();
   double total = 0.0;
-  std::array<double, 3> visible{0.0, 0.0, 0.0};
+  std::array<double, 3> visible{0.0, 0.0, 0.0}, seen{0.0, 0.0, 0.0};
   for (std::size_t t = 0; t < traced.size(); ++t) {
     const std::size_t i = traced[t];
     total += weight[i];
+    for (int l = 0; l < 3; ++l) seen[l] += samples[i].barycentric[l] * weight[i];
     if (blocked[t]) continue;
     for (int l = 0; l < 3; ++l) visible[l] += samples[i].barycentric[l] * weight[i];
+  }
+  if ((receiver.x - (shooter[0] + shooter[1] + shooter[2]) / 3.0).norm() < kNearShooter * longest_edge(shooter)) {
+    // The split integrated; the samples only say how much of each corner's
+    // share is hidden.
+    const std::array<double, 3> split = near_basis_form_factors(receiver, shooter, approach);
+    const double sum = split[0] + split[1] + split[2];
+    for (int l = 0; l < 3; ++l) {
+      const double share = sum > 0 ? ff * split[l] / sum : ff / 3.0;
+      const double open = seen[l] > 0 ? visible[l] / seen[l] : (total > 0 ? (visible[0] + visible[1] + visible[2]) / total : 1.0);
+      out.f[l] = static_cast<float>(share * open);
+    }
+    return out;
   }
   for (int l = 0; l < 3; ++l) out.f[l] = static_cast<float>(ff * visible[l] / total);
   return out;

@@ -267,6 +267,61 @@ TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
   EXPECT_GT(off_edge, 20u);
 }
 
+TEST(LinearSolver, FloorUnderABoxIsDarkAndItsFootIsLitFromTheOpenSide) {
+  // A black open-bottomed box stands on a unit floor (z = 0, ρ 0.5), a
+  // square light (Kd 0, Le 1) hangs to one side of it. Under the box the
+  // floor receives nothing; at the box's foot on the light's side nothing
+  // stands between floor and light, so L = ρ Le F(x → light) there, the
+  // limit from the open side (docs/accuracy.md, "Contact lines").
+  PolygonSoup soup;
+  Material floor_material{"floor", Rgb(0.5, 0.5, 0.5), Rgb(0, 0, 0)};
+  Material black{"black", Rgb(0, 0, 0), Rgb(0, 0, 0)};
+  Material light{"light", Rgb(0, 0, 0), Rgb(1, 1, 1)};
+  soup.materials = {floor_material, black, light};
+  soup.groups = {"floor", "box", "light"};
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
+  const double x0 = 0.13, x1 = 0.37, y0 = 0.29, y1 = 0.71, top = 0.2;
+  const Vec3 b000(x0, y0, 0), b100(x1, y0, 0), b110(x1, y1, 0), b010(x0, y1, 0);
+  const Vec3 b001(x0, y0, top), b101(x1, y0, top), b111(x1, y1, top), b011(x0, y1, top);
+  test::add_quad(soup, b000, b100, b101, b001, 1, 1);  // y = y0, faces -y
+  test::add_quad(soup, b100, b110, b111, b101, 1, 1);  // x = x1, faces +x
+  test::add_quad(soup, b110, b010, b011, b111, 1, 1);  // y = y1, faces +y
+  test::add_quad(soup, b010, b000, b001, b011, 1, 1);  // x = x0, faces -x
+  test::add_quad(soup, b001, b101, b111, b011, 1, 1);  // top, faces +z
+  const std::vector<Vec3> lamp{Vec3(0.6, 0.35, 0.8), Vec3(0.6, 0.65, 0.8), Vec3(0.9, 0.65, 0.8), Vec3(0.9, 0.35, 0.8)};
+  test::add_quad(soup, lamp[0], lamp[1], lamp[2], lamp[3], 2, 2);  // faces -z
+  const Scene scene = test::scene_from_soup(soup, "box on a floor");
+  MeshingOptions meshing;
+  meshing.max_edge = 0.2;
+  SceneModel model(scene, meshing);
+  LinearOptions options;
+  options.eps_link = 5.0;
+  LinearSolver solver(model, options);
+  solver.solve();
+  int floor = -1;
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    if (model.material(s).reflectance[0] > 0) floor = s;
+  }
+  ASSERT_GE(floor, 0);
+  const SurfaceHierarchy& h = model.hierarchy(floor);
+  constexpr double kOn = 1e-9;
+  std::size_t under = 0, foot = 0;
+  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+    const Vec3 x = h.point(v);
+    const double got = solver.vertex_radiance(floor)[v][0];
+    if (x[0] > x0 + kOn && x[0] < x1 - kOn && x[1] > y0 + kOn && x[1] < y1 - kOn) {
+      EXPECT_EQ(got, 0.0) << "vertex under the box at " << x;
+      ++under;
+    } else if (std::abs(x[0] - x1) < kOn && x[1] > y0 + kOn && x[1] < y1 - kOn) {
+      const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), lamp);
+      EXPECT_NEAR(got, exact, 0.03 * exact) << "vertex at the box's foot at " << x;
+      ++foot;
+    }
+  }
+  EXPECT_GT(under, 2u);
+  EXPECT_GT(foot, 2u);
+}
+
 TEST(LinearSolver, InvariantsHoldAfterEveryIteration) {
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   MeshingOptions meshing;

@@ -136,5 +136,31 @@ TEST(SurfaceTransport, FloorSeenFromTheFootOfAWallPastABlockMatchesTracedRays) {
   }
 }
 
+TEST(TriangleTransport, AtTheFootOfAWallTheSplitIsTheWallsValueThere) {
+  // x on the floor at the foot of a wall triangle, on its bottom edge. As x
+  // approaches the edge from inside the floor, all of the wall's form factor
+  // comes from ever smaller neighbourhoods of x (points of the wall's plane
+  // away from x are seen edge-on), so the linear basis takes it in the
+  // proportions of x's own barycentric coordinates: F^l = F N^l(x).
+  const std::array<Vec3, 3> wall{Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(0, 3, 0)};  // z = 0, faces +z
+  TriMesh mesh;
+  mesh.add_face(mesh.add_vertex(wall[0]), mesh.add_vertex(wall[1]), mesh.add_vertex(wall[2]));
+  const RayScene rays({&mesh});
+  for (const double along : {0.4, 1.0, 2.1}) {
+    ReceiverPoint x;
+    x.x = Vec3(along, 0, 0);
+    x.normal = Vec3(0, 1, 0);
+    x.approach = Vec3(0, 0, 1);
+    TransportSampling sampling;
+    sampling.key = 7;
+    std::uint64_t ray_count = 0;
+    const TransportCoefficients c = triangle_transport(x, wall, rays, sampling, ray_count);
+    const double total = c.visible();
+    ASSERT_NEAR(total, 0.5, 1e-6) << "the wall fills half the floor's projected hemisphere at its foot";
+    const std::array<double, 3> hat{1.0 - along / 3.0, along / 3.0, 0.0};
+    for (int l = 0; l < 3; ++l) EXPECT_NEAR(c.f[l] / total, hat[l], 0.02) << "corner " << l << " at " << along;
+  }
+}
+
 }  // namespace
 }  // namespace lhr

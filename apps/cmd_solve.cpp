@@ -50,6 +50,10 @@ int run_solve(const Args& args) {
        "linear: refine a link when its reflected contribution, relative to the adaptation luminance, times the "
        "pixels of the receiving node reaches this (paper 4.2), or when the error of its shooter element's values, "
        "summed over the pixels of every node linked to that element, does")
+      ("eps-vertex", double_value(LinearOptions{}.eps_vertex),
+       "linear: also refine a link when its shooter element's error reaching a node (form factor x the spread "
+       "of the element's values, reflected) exceeds this fraction of the node's radiance, wherever the camera "
+       "looks: the exported mesh's values near corners and contacts (0: off)")
       ("vis-threshold", double_value(LinearOptions{}.vis_threshold),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
       ("link-power", double_value(LinearOptions{}.link_power),
@@ -125,6 +129,7 @@ int run_solve(const Args& args) {
   linear.eps_pixel = vm["eps-pixel"].as<double>();
   linear.eps_link = vm["eps-link"].as<double>();
   linear.vis_threshold = vm["vis-threshold"].as<double>();
+  linear.eps_vertex = vm["eps-vertex"].as<double>();
   linear.link_power = vm["link-power"].as<double>();
   classical.min_edge = linear.min_edge = min_edge;
   classical.max_iterations = linear.max_iterations = max_iterations;
@@ -135,6 +140,9 @@ int run_solve(const Args& args) {
   if (!(classical.eps_bf > 0)) throw po::error("--eps-bf must be positive");
   if (!(linear.eps_pixel > 0) || !(linear.eps_link > 0)) throw po::error("--eps-pixel and --eps-link must be positive");
   if (!(linear.vis_threshold > 0)) throw po::error("--vis-threshold must be positive");
+  if (!(linear.eps_vertex >= 0) || !std::isfinite(linear.eps_vertex)) {
+    throw po::error("--eps-vertex must be 0 (off) or positive");
+  }
   if (!(linear.link_power >= 0)) throw po::error("--link-power must be zero or positive");
   if (!(min_edge >= 0)) throw po::error("--min-edge must be zero or positive");
   if (max_iterations < 1) throw po::error("--max-iterations must be at least 1");

@@ -19,6 +19,11 @@ namespace lhr {
 
 namespace {
 
+// eps_vertex compares with at least this fraction of the adaptation
+// luminance, so that nodes in the dark do not refine without bound.
+constexpr double kVertexErrorFloor = 0.01;
+
+
 using Clock = std::chrono::steady_clock;
 
 // Share of max_bytes the link cap plans to fill (update_link_cap).
@@ -769,10 +774,16 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
       }
       // Or the element's own representation is off, over every node sharing it.
       const double shared_error = shared.at(element_key(p.graph, link.shooter));
-      if (!(largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link) &&
-          !(shared_error / adaptation_ > options_.eps_link)) {
-        continue;
-      }
+      const auto own_error_too_large = [&] {
+        if (!(options_.eps_vertex > 0)) return false;
+        const double own = luminance(surfaces_[g.receiver_surface()].radiance[g.vertex(p.vertex)]);
+        const double floor = kVertexErrorFloor * adaptation_;
+        return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
+      };
+      const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
+                        shared_error / adaptation_ > options_.eps_link;
+      const bool own = !seen && own_error_too_large();
+      if (!seen && !own) continue;
       if (over_budget(3)) continue;
       const std::vector<NodeId> kids = children(s, link.shooter);
       std::vector<GraphLink>& links = g.links(p.vertex);
@@ -784,6 +795,7 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
       }
       links_now_ += kids.size() - 1;
       ++stats_.shooter_refinements;
+      if (own) ++stats_.vertex_error_refinements;
       changed = true;
     }
     compute_coefficients(created);

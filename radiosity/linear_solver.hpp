@@ -49,6 +49,14 @@ struct LinearOptions {
   // the pixels of every node of the graph linked to that element, does: the
   // nodes share that error, so it is one error over all their pixels.
   double eps_link = 10.0;
+  // Object-space bound on the exported values (the mesh is the product, seen
+  // from anywhere): refine a link when the error of its shooter element's
+  // values reaching the node (form factor times spread, reflected) exceeds
+  // this fraction of the node's own radiance (at least 1 % of the
+  // adaptation luminance). Near a concave edge or a contact, the node's
+  // light comes from the shooter's value right next to it, which a coarse
+  // element's mean cannot stand for. 0 turns the test off.
+  double eps_vertex = 0.05;
   // |V1 − V2| at or above this is a visibility change (§4.1): the oracle
   // then uses the conservative max − min.
   double vis_threshold = 0.1;
@@ -99,6 +107,7 @@ struct LinearStats {
   std::uint64_t shadow_rays = 0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
+  std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
   double final_change = 0.0;
   double world_adaptation = 0.0;
   // Memory, bytes.

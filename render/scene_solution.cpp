@@ -59,6 +59,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
   run.iterations = st.iterations;
   run.parameters = {{"eps_pixel", options.eps_pixel},
                     {"eps_link", options.eps_link},
+                    {"eps_vertex", options.eps_vertex},
                     {"vis_threshold", options.vis_threshold},
                     {"link_power", options.link_power},
                     {"min_edge", options.min_edge > 0 ? options.min_edge : model.max_edge() / 32.0},
@@ -74,6 +75,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
                {"elements_per_level", st.leaves_per_level},
                {"receiver_splits", st.receiver_splits},
                {"shooter_refinements", st.shooter_refinements},
+               {"vertex_error_refinements", st.vertex_error_refinements},
                {"links_linked_past_budget", st.links_linked_past_budget},
                {"power_left_out", st.power_left_out},
                {"final_change", st.final_change},

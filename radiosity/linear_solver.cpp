@@ -112,17 +112,21 @@ void LinearSolver::sync_vertices(int s) {
   const RayScene& rays = model_.rays();
   const auto enclosed = [&](VertexId v, const Vec3& d) {
     const Vec3 origin = rays.lift(h.point(v) + 8.0 * rays.epsilon() * d, surface.normal);
-    return model_.enclosed_fraction(origin, surface.normal) >= 0.5;
+    return model_.enclosed_fraction(origin, surface.normal);
   };
   const auto set_approach = [&](VertexId v, NodeId from) {
     if (st.approach[v].sqrnorm() > 0) return;
     Vec3 d = model_.centroid(s, from) - h.point(v);
     d = d.norm() > 0 ? d / d.norm() : Vec3(0, 0, 0);
-    if (surface.planar && d.sqrnorm() > 0 && enclosed(v, d)) {
-      if (enclosed(v, -d)) {
-        st.hidden[v] = 1;
-      } else {
-        d = -d;
+    if (surface.planar && d.sqrnorm() > 0) {
+      // The same rule as the vertex reference (render/vertex_reference.cpp):
+      // the other side when it is clearly more open.
+      constexpr double kClearlyMoreOpen = 0.125;
+      const double here = enclosed(v, d);
+      if (here > 0.0) {
+        const double there = enclosed(v, -d);
+        if (there < here - kClearlyMoreOpen) d = -d;
+        st.hidden[v] = std::min(here, there) >= 0.5;
       }
     }
     st.approach[v] = d;
@@ -264,6 +268,7 @@ bool LinearSolver::link_new_shooters() {
     }
   }
   stats_.power_left_out = total_emitted_power_ > 0 ? kept_out / total_emitted_power_ : 0.0;
+  const std::size_t first_new = graphs_.size();
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     SurfaceState& st = surfaces_[s];
     if (!starts[s]) continue;
@@ -297,10 +302,12 @@ bool LinearSolver::link_new_shooters() {
     }
     return false;
   };
-  // The per-graph form factor cache moves with its graph.
+  // The per-graph form factor cache moves with its graph. Graphs linked in
+  // earlier iterations keep their index: the per-graph importance refers to
+  // them by it until the next importance pass.
   unoccluded_at_.resize(graphs_.size());
-  std::size_t kept = 0;
-  for (std::size_t g = 0; g < graphs_.size(); ++g) {
+  std::size_t kept = first_new;
+  for (std::size_t g = first_new; g < graphs_.size(); ++g) {
     if (!exchanges(graphs_[g])) continue;
     if (kept != g) {
       graphs_[kept] = std::move(graphs_[g]);
@@ -776,7 +783,11 @@ bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
       const double shared_error = shared.at(element_key(p.graph, link.shooter));
       const auto own_error_too_large = [&] {
         if (!(options_.eps_vertex > 0)) return false;
-        const double own = luminance(surfaces_[g.receiver_surface()].radiance[g.vertex(p.vertex)]);
+        // A node made in this refinement pass has no value yet: the floor
+        // stands for it until the next push.
+        const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
+        const VertexId v = g.vertex(p.vertex);
+        const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
         const double floor = kVertexErrorFloor * adaptation_;
         return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
       };

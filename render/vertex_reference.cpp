@@ -82,22 +82,27 @@ std::vector<VertexFrame> vertex_frames(const RawMesh& mesh) {
   return frames;
 }
 
-// Where a vertex's paths start: nudged into its widest face, unless that
-// start is enclosed. A vertex on a contact line (a floor vertex at the foot
-// of a box) has faces on both sides of it, and the radiance jumps there: its
-// value is the limit from the side that can be seen, so the first face,
-// widest first, whose start is not inside a closed object. (A vertex the
-// solver refined where no face is open keeps its widest face.)
+// Where a vertex's paths start: nudged into its widest face, unless another
+// face's start is clearly more open. A vertex on a contact line (a floor
+// vertex at the foot of a box, a ceiling vertex on the outline of a light
+// just below it) has faces on both sides, and the radiance jumps there: its
+// value is the limit from the side that can be seen, the face whose start
+// is least enclosed (widest first among equals).
 std::optional<SurfaceStart> vertex_start(const PathTracer& tracer, const Vec3& x, const VertexFrame& frame) {
-  constexpr double kOpen = 0.5;
-  std::optional<SurfaceStart> first;
+  constexpr double kClearlyMoreOpen = 0.125;
+  std::optional<SurfaceStart> best;
+  double best_enclosed = 2.0;
   for (const auto& [angle, centroid] : frame.faces) {
     std::optional<SurfaceStart> start = tracer.surface_start(x, frame.normal, centroid);
     if (!start) continue;
-    if (tracer.enclosed_fraction(*start) < kOpen) return start;
-    if (!first) first = start;
+    const double enclosed = tracer.enclosed_fraction(*start);
+    if (!best || enclosed < best_enclosed - kClearlyMoreOpen) {
+      best = start;
+      best_enclosed = enclosed;
+    }
+    if (best_enclosed == 0.0) break;
   }
-  return first;
+  return best;
 }
 
 // Per-vertex sums over the samples so far, in sample order.

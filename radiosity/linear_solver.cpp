@@ -114,6 +114,31 @@ void LinearSolver::sync_vertices(int s) {
     const Vec3 origin = rays.lift(h.point(v) + 8.0 * rays.epsilon() * d, surface.normal);
     return model_.enclosed_fraction(origin, surface.normal);
   };
+  // Contact lines are edges of the initial mesh, so only a node on an
+  // initial vertex or edge inside the surface (not on its outline, where
+  // the other side is off the surface) can lie on one.
+  const TriMesh& roots = h.mesh();
+  const auto may_straddle = [&](VertexId v) {
+    std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
+    int found = 0;
+    std::vector<VertexId> stack{v};
+    while (!stack.empty() && found < 3) {
+      const VertexId u = stack.back();
+      stack.pop_back();
+      if (st.parents[u][0] != kNoVertex) {
+        stack.push_back(st.parents[u][0]);
+        stack.push_back(st.parents[u][1]);
+      } else if (std::find(ancestors.begin(), ancestors.begin() + found, u) == ancestors.begin() + found) {
+        ancestors[found++] = u;
+      }
+    }
+    if (found == 1) return !roots.is_boundary(OpenMesh::VertexHandle(ancestors[0]));
+    if (found == 2) {
+      const auto he = roots.find_halfedge(OpenMesh::VertexHandle(ancestors[0]), OpenMesh::VertexHandle(ancestors[1]));
+      return he.is_valid() && !roots.is_boundary(roots.edge_handle(he));
+    }
+    return false;
+  };
   const auto set_approach = [&](VertexId v, NodeId from) {
     if (st.approach[v].sqrnorm() > 0) return;
     Vec3 d = model_.centroid(s, from) - h.point(v);
@@ -124,7 +149,7 @@ void LinearSolver::sync_vertices(int s) {
       constexpr double kClearlyMoreOpen = 0.125;
       const double here = enclosed(v, d);
       if (here > 0.0) {
-        const double there = enclosed(v, -d);
+        const double there = may_straddle(v) ? enclosed(v, -d) : 1.0;
         if (there < here - kClearlyMoreOpen) d = -d;
         st.hidden[v] = std::min(here, there) >= 0.5;
       }

@@ -322,6 +322,64 @@ TEST(LinearSolver, FloorUnderABoxIsDarkAndItsFootIsLitFromTheOpenSide) {
   EXPECT_GT(foot, 2u);
 }
 
+TEST(LinearSolver, FurnaceWithABlockOnTheFloorIsTwoWhereverItIsOpen) {
+  // A closed 4 x 3 x 4 room with an open-bottomed block standing on its
+  // floor, every face ρ 0.5 and Le 1: radiance 2 wherever a point sees
+  // only the scene, and Le = 1 under the block, which nothing reaches. A
+  // floor element straddling the block's foot used to hold the floor 10-25 %
+  // low beside the block and lit the floor under it; almost every node is now
+  // within 1 %.
+  PolygonSoup soup;
+  soup.materials = {Material{"m", Rgb(0.5, 0.5, 0.5), Rgb(1, 1, 1)}};
+  soup.groups = {"room", "block"};
+  const auto box = [&](const Vec3& lo, const Vec3& hi, bool inward, bool bottom, int group) {
+    const Vec3 c[8] = {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], lo[1], lo[2]), Vec3(hi[0], lo[1], hi[2]),
+                       Vec3(lo[0], lo[1], hi[2]), Vec3(lo[0], hi[1], lo[2]), Vec3(hi[0], hi[1], lo[2]),
+                       Vec3(hi[0], hi[1], hi[2]), Vec3(lo[0], hi[1], hi[2])};
+    // Outward-facing quads; reversed for a room seen from inside.
+    const int faces[6][4] = {{0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}, {4, 7, 6, 5}, {0, 1, 2, 3}};
+    for (int f = 0; f < 6; ++f) {
+      if (f == 5 && !bottom) continue;
+      const auto& q = faces[f];
+      if (inward) {
+        test::add_quad(soup, c[q[3]], c[q[2]], c[q[1]], c[q[0]], 0, group);
+      } else {
+        test::add_quad(soup, c[q[0]], c[q[1]], c[q[2]], c[q[3]], 0, group);
+      }
+    }
+  };
+  box(Vec3(0, 0, 0), Vec3(4, 3, 4), true, true, 0);
+  box(Vec3(1.5, 0, 1.5), Vec3(2.5, 1, 2.5), false, false, 1);
+  const Scene scene = test::scene_from_soup(soup, "furnace with a block");
+  MeshingOptions meshing;
+  meshing.max_edge = default_max_edge(scene);
+  SceneModel model(scene, meshing);
+  LinearSolver solver(model, LinearOptions{});
+  solver.solve();
+  std::vector<double> open_error;
+  std::size_t under = 0;
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    const SurfaceHierarchy& h = model.hierarchy(s);
+    for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+      const Vec3 x = h.point(v);
+      const double got = solver.vertex_radiance(s)[v][0];
+      const bool floor = scene.surfaces[s].normal[1] > 0.99 && std::abs(x[1]) < 1e-9;
+      if (floor && x[0] > 1.5 + 1e-9 && x[0] < 2.5 - 1e-9 && x[2] > 1.5 + 1e-9 && x[2] < 2.5 - 1e-9) {
+        EXPECT_EQ(got, 1.0) << "floor vertex under the block at " << x;
+        ++under;
+        continue;
+      }
+      open_error.push_back(std::abs(got - 2.0) / 2.0);
+      // The worst are nodes on the block's foot and next to its corners,
+      // where the kernel is singular from two sides: 7 % today.
+      EXPECT_NEAR(got, 2.0, 0.2) << "surface " << scene.surfaces[s].name << " vertex at " << x;
+    }
+  }
+  ASSERT_GT(under, 10u);
+  std::sort(open_error.begin(), open_error.end());
+  EXPECT_LT(open_error[open_error.size() * 95 / 100], 0.01) << "95th percentile of the relative error";
+}
+
 TEST(LinearSolver, InvariantsHoldAfterEveryIteration) {
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   MeshingOptions meshing;

@@ -23,6 +23,27 @@ namespace {
 // luminance, so that nodes in the dark do not refine without bound.
 constexpr double kVertexErrorFloor = 0.01;
 
+// The initial vertices a node is interpolated from, following the midpoint
+// parents: 1 on an initial vertex, 2 on an initial edge, 3 inside an
+// initial face. Their count is returned.
+int initial_ancestors(const std::vector<std::array<VertexId, 2>>& parents, VertexId v,
+                      std::array<VertexId, 3>& ancestors) {
+  int found = 0;
+  std::vector<VertexId> stack{v};
+  while (!stack.empty()) {
+    const VertexId u = stack.back();
+    stack.pop_back();
+    if (parents[u][0] != kNoVertex) {
+      stack.push_back(parents[u][0]);
+      stack.push_back(parents[u][1]);
+    } else if (std::find(ancestors.begin(), ancestors.begin() + found, u) == ancestors.begin() + found) {
+      if (found == 3) throw std::logic_error("a node descends from more than one initial face");
+      ancestors[found++] = u;
+    }
+  }
+  return found;
+}
+
 
 using Clock = std::chrono::steady_clock;
 
@@ -120,18 +141,7 @@ void LinearSolver::sync_vertices(int s) {
   const TriMesh& roots = h.mesh();
   const auto may_straddle = [&](VertexId v) {
     std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
-    int found = 0;
-    std::vector<VertexId> stack{v};
-    while (!stack.empty() && found < 3) {
-      const VertexId u = stack.back();
-      stack.pop_back();
-      if (st.parents[u][0] != kNoVertex) {
-        stack.push_back(st.parents[u][0]);
-        stack.push_back(st.parents[u][1]);
-      } else if (std::find(ancestors.begin(), ancestors.begin() + found, u) == ancestors.begin() + found) {
-        ancestors[found++] = u;
-      }
-    }
+    const int found = initial_ancestors(st.parents, v, ancestors);
     if (found == 1) return !roots.is_boundary(OpenMesh::VertexHandle(ancestors[0]));
     if (found == 2) {
       const auto he = roots.find_halfedge(OpenMesh::VertexHandle(ancestors[0]), OpenMesh::VertexHandle(ancestors[1]));
@@ -365,19 +375,7 @@ std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, Vert
   const TriMesh& mesh = h.mesh();
   const Vec3 x = h.point(v);
   std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
-  int found = 0;
-  std::vector<VertexId> stack{v};
-  while (!stack.empty()) {
-    const VertexId u = stack.back();
-    stack.pop_back();
-    if (st.parents[u][0] != kNoVertex) {
-      stack.push_back(st.parents[u][0]);
-      stack.push_back(st.parents[u][1]);
-    } else if (std::find(ancestors.begin(), ancestors.begin() + found, u) == ancestors.begin() + found) {
-      if (found == 3) throw std::logic_error("receiver_sides: a node descends from more than one initial face");
-      ancestors[found++] = u;
-    }
-  }
+  const int found = initial_ancestors(st.parents, v, ancestors);
   std::vector<ReceiverSide> sides;
   for (const auto fh : mesh.vf_range(OpenMesh::VertexHandle(ancestors[0]))) {
     const auto& k = h.corners(h.root(fh.idx()));

@@ -39,4 +39,21 @@ std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key
   return samples;
 }
 
+std::vector<Vec3> hemisphere_probe_directions(const Vec3& n) {
+  constexpr int kRings = 4, kSectors = 8;
+  const Vec3 t =
+      (std::abs(n[0]) < 0.9 ? OpenMesh::cross(n, Vec3(1, 0, 0)) : OpenMesh::cross(n, Vec3(0, 1, 0))).normalized();
+  const Vec3 b = OpenMesh::cross(n, t);
+  std::vector<Vec3> directions;
+  directions.reserve(kRings * kSectors);
+  for (int i = 0; i < kRings; ++i) {
+    const double r = std::sqrt((i + 0.5) / kRings);
+    for (int j = 0; j < kSectors; ++j) {
+      const double phi = 2.0 * M_PI * (j + 0.5 * (i % 2)) / kSectors;
+      directions.push_back(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1.0 - r * r) * n);
+    }
+  }
+  return directions;
+}
+
 }  // namespace lhr

@@ -39,4 +39,11 @@ inline Vec3 at(const std::array<Vec3, 3>& t, const TriangleSample& s) {
   return s.barycentric[0] * t[0] + s.barycentric[1] * t[1] + s.barycentric[2] * t[2];
 }
 
+// A fixed set of directions over the hemisphere of unit normal n,
+// cosine-distributed on a 4 x 8 grid: the probe that tells whether a point
+// lies inside a closed object (the back of a face hit first along most of
+// them), used alike by the solver and the vertex reference so that both
+// take a contact line's value from the same side.
+std::vector<Vec3> hemisphere_probe_directions(const Vec3& n);
+
 }  // namespace lhr

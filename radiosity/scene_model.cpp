@@ -1,6 +1,6 @@
 #include "radiosity/scene_model.hpp"
 
-#include <cmath>
+#include "radiosity/sampling.hpp"
 
 namespace lhr {
 
@@ -46,21 +46,13 @@ Vec3 SceneModel::centroid(int s, NodeId n) const {
 }
 
 double SceneModel::enclosed_fraction(const Vec3& origin, const Vec3& n) const {
-  // Cosine-weighted directions on a 4 x 8 grid of the hemisphere.
-  constexpr int kRings = 4, kSectors = 8;
-  const Vec3 t = (std::abs(n[0]) < 0.9 ? OpenMesh::cross(n, Vec3(1, 0, 0)) : OpenMesh::cross(n, Vec3(0, 1, 0))).normalized();
-  const Vec3 b = OpenMesh::cross(n, t);
+  const std::vector<Vec3> directions = hemisphere_probe_directions(n);
   int back = 0;
-  for (int i = 0; i < kRings; ++i) {
-    const double r = std::sqrt((i + 0.5) / kRings);
-    for (int j = 0; j < kSectors; ++j) {
-      const double phi = 2.0 * M_PI * (j + 0.5 * (i % 2)) / kSectors;
-      const Vec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1.0 - r * r) * n;
-      const auto hit = rays_->intersect(origin, d);
-      if (hit && OpenMesh::dot(normal(hit->surface, hierarchies_[hit->surface].root(hit->face)), d) > 0.0) ++back;
-    }
+  for (const Vec3& d : directions) {
+    const auto hit = rays_->intersect(origin, d);
+    if (hit && OpenMesh::dot(normal(hit->surface, hierarchies_[hit->surface].root(hit->face)), d) > 0.0) ++back;
   }
-  return static_cast<double>(back) / (kRings * kSectors);
+  return static_cast<double>(back) / static_cast<double>(directions.size());
 }
 
 }  // namespace lhr

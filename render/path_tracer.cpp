@@ -466,22 +466,13 @@ double PathTracer::enclosed_fraction(const SurfaceStart& start) const {
   if (start.triangle < 0 || start.triangle >= static_cast<int>(impl_->triangles.size())) {
     throw std::invalid_argument("path tracer: a surface start names no triangle of the scene");
   }
-  // Cosine-weighted directions on a 4 x 8 grid of the hemisphere.
-  constexpr int kRings = 4, kSectors = 8;
-  const Vec3& n = impl_->triangles[start.triangle].normal;
-  Vec3 t, b;
-  frame_around(n, t, b);
+  const std::vector<Vec3> directions = hemisphere_probe_directions(impl_->triangles[start.triangle].normal);
   int back = 0;
-  for (int i = 0; i < kRings; ++i) {
-    const double r = std::sqrt((i + 0.5) / kRings);
-    for (int j = 0; j < kSectors; ++j) {
-      const double phi = 2.0 * M_PI * (j + 0.5 * (i % 2)) / kSectors;
-      const Vec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1.0 - r * r) * n;
-      const auto hit = impl_->intersect(start.origin, d);
-      if (hit && OpenMesh::dot(impl_->triangles[hit->triangle].normal, d) > 0.0) ++back;
-    }
+  for (const Vec3& d : directions) {
+    const auto hit = impl_->intersect(start.origin, d);
+    if (hit && OpenMesh::dot(impl_->triangles[hit->triangle].normal, d) > 0.0) ++back;
   }
-  return static_cast<double>(back) / (kRings * kSectors);
+  return static_cast<double>(back) / static_cast<double>(directions.size());
 }
 
 Rgb PathTracer::sample_radiance(const SurfaceStart& start, std::uint64_t key) const {

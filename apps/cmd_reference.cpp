@@ -188,7 +188,12 @@ int run_reference(const Args& args) {
   if (progress && !verbose) std::cerr << "\r" << std::string(79, ' ') << "\r";
 
   AtomicOutputs outputs;
-  write_image(outputs, out, reference.radiance);
+  ImageMetadata metadata;
+  metadata.software = std::string("lhr ") + LHR_VERSION;
+  metadata.camera = camera;
+  metadata.notes = {{"lhr:method", "path tracing, " + std::to_string(reference.spp) + " samples per pixel"},
+                    {"lhr:content", "linear radiance, in the units of the scene's emission Ke"}};
+  write_image(outputs, out, reference.radiance, metadata);
   if (png) {
     const auto tone_map = reference_tone_map(tone, reference.radiance, reference.mask);
     Image display(reference.radiance.width, reference.radiance.height);
@@ -197,7 +202,8 @@ int run_reference(const Args& args) {
       const Rgb d = tone_map->display_rgb(Rgb(p[0], p[1], p[2]));
       for (int c = 0; c < 3; ++c) display.rgb[3 * i + c] = static_cast<float>(d[c]);
     }
-    write_image(outputs, *png, display);
+    metadata.notes.back().second = "display values, tone-mapped";
+    write_image(outputs, *png, display, metadata);
   }
   outputs.publish();
   if (!quiet) {

@@ -221,8 +221,14 @@ int run_solve(const Args& args) {
     throw_if_interrupted();
     write_mesh(outputs, out_dir / "mesh.off", view.export_mesh);
     throw_if_interrupted();
-    write_image(outputs, out_dir / "image.exr", view.radiance_image);
-    write_image(outputs, out_dir / "image.png", view.display_image);
+    ImageMetadata metadata;
+    metadata.software = std::string("lhr ") + LHR_VERSION;
+    metadata.camera = camera;
+    metadata.notes = {{"lhr:method", method},
+                      {"lhr:content", "linear radiance, in the units of the scene's emission Ke"}};
+    write_image(outputs, out_dir / "image.exr", view.radiance_image, metadata);
+    metadata.notes.back().second = "display values, tone-mapped (see stats.json tone_map)";
+    write_image(outputs, out_dir / "image.png", view.display_image, metadata);
     // Timings and memory vary from run to run; everything else does not.
     doc["seconds"]["output"] = seconds_since(t_output);
     doc["seconds"]["total"] = seconds_since(t_start);

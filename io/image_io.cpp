@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <stdexcept>
 #include <string>
@@ -23,13 +24,54 @@ std::string lower_extension(const std::filesystem::path& path) {
 
 }  // namespace
 
-void write_image(const std::filesystem::path& path, const Image& image) {
+std::array<float, 16> world_to_camera_matrix(const Camera& camera) {
+  const Vec3 forward = (camera.target - camera.eye).normalized();
+  const Vec3 right = OpenMesh::cross(forward, camera.up).normalized();
+  const Vec3 up = OpenMesh::cross(right, forward);
+  const Vec3& e = camera.eye;
+  std::array<float, 16> m{};
+  for (int row = 0; row < 3; ++row) {
+    m[4 * row + 0] = static_cast<float>(right[row]);
+    m[4 * row + 1] = static_cast<float>(up[row]);
+    m[4 * row + 2] = static_cast<float>(forward[row]);
+  }
+  m[12] = static_cast<float>(-OpenMesh::dot(right, e));
+  m[13] = static_cast<float>(-OpenMesh::dot(up, e));
+  m[14] = static_cast<float>(-OpenMesh::dot(forward, e));
+  m[15] = 1.0f;
+  return m;
+}
+
+std::array<float, 16> world_to_ndc_matrix(const Camera& camera) {
+  // Camera space to NDC: x' = x / (z tan(half width)), y' = y / (z tan(half
+  // height)) after dividing by w' = z.
+  const double half_height = std::tan(0.5 * camera.fov_y_deg * M_PI / 180.0);
+  const double half_width = half_height * camera.width / camera.height;
+  const std::array<float, 16> view = world_to_camera_matrix(camera);
+  std::array<double, 16> projection{};
+  projection[0] = 1.0 / half_width;
+  projection[5] = 1.0 / half_height;
+  projection[10] = 1.0;
+  projection[11] = 1.0;
+  std::array<float, 16> m{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      double sum = 0.0;
+      for (int k = 0; k < 4; ++k) sum += view[4 * r + k] * projection[4 * k + c];
+      m[4 * r + c] = static_cast<float>(sum);
+    }
+  }
+  return m;
+}
+
+void write_image(const std::filesystem::path& path, const Image& image, const ImageMetadata& metadata) {
   AtomicOutputs outputs;
-  write_image(outputs, path, image);
+  write_image(outputs, path, image, metadata);
   outputs.publish();
 }
 
-void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, const Image& image) {
+void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, const Image& image,
+                 const ImageMetadata& metadata) {
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr") {
     throw std::runtime_error(path.string() + ": unknown image type (use .png or .exr)");
@@ -50,7 +92,15 @@ void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, cons
       throw std::runtime_error(path.string() + ": the image writer cannot write to memory");
     }
     const bool png = ext == ".png";
-    OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::HALF);
+    OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    if (!metadata.software.empty()) spec.attribute("Software", metadata.software);
+    for (const auto& [key, value] : metadata.notes) spec.attribute(key, value);
+    if (metadata.camera && !png) {
+      const std::array<float, 16> to_camera = world_to_camera_matrix(*metadata.camera);
+      const std::array<float, 16> to_ndc = world_to_ndc_matrix(*metadata.camera);
+      spec.attribute("worldtocamera", OIIO::TypeMatrix, to_camera.data());
+      spec.attribute("worldtoscreen", OIIO::TypeMatrix, to_ndc.data());
+    }
     if (!out->open(path.string(), spec)) throw std::runtime_error(path.string() + ": " + out->geterror());
     bool ok;
     if (png) {

@@ -6,7 +6,6 @@
 #include <limits>
 #include <numeric>
 #include <set>
-#include <unordered_map>
 #include <utility>
 
 namespace lhr {
@@ -44,23 +43,10 @@ std::uint64_t edge_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-// Edges used by exactly one polygon of the surface: its outline.
-std::set<std::uint64_t> outline_edges(const Surface& s) {
-  std::unordered_map<std::uint64_t, int> uses;
-  for (const auto& poly : s.polygons) {
-    for (std::size_t i = 0; i < poly.size(); ++i) ++uses[edge_key(poly[i], poly[(i + 1) % poly.size()])];
-  }
-  std::set<std::uint64_t> outline;
-  for (const auto& [key, n] : uses) {
-    if (n == 1) outline.insert(key);
-  }
-  return outline;
-}
-
 // The segments where `other` meets the plane of `planar` (unit normal n,
 // n . x = offset), appended to out.
-void add_contacts(const Surface& planar, double offset, const Surface& other, const std::set<std::uint64_t>& outline,
-                  double tolerance, std::vector<Segment3>& out) {
+void add_contacts(const Surface& planar, double offset, const Surface& other, double tolerance,
+                  std::vector<Segment3>& out) {
   const Vec3& n = planar.normal;
   std::vector<double> d(other.points.size());
   std::vector<int> side(other.points.size());
@@ -69,7 +55,6 @@ void add_contacts(const Surface& planar, double offset, const Surface& other, co
     side[i] = d[i] > tolerance ? 1 : (d[i] < -tolerance ? -1 : 0);
   }
   const auto on_plane = [&](int i) { return other.points[i] - d[i] * n; };
-  const bool covers = other.planar && OpenMesh::dot(other.normal, n) > 0.0;
   std::set<std::uint64_t> taken;
   for (const auto& poly : other.polygons) {
     bool front = false, back = false;
@@ -77,17 +62,17 @@ void add_contacts(const Surface& planar, double offset, const Surface& other, co
       front |= side[i] > 0;
       back |= side[i] < 0;
     }
-    const bool flat = !front && !back;
     for (std::size_t k = 0; k < poly.size(); ++k) {
       const int a = poly[k], b = poly[(k + 1) % poly.size()];
       if (side[a] != 0 || side[b] != 0) continue;
       const std::uint64_t key = edge_key(a, b);
       // An edge on the plane bounds what lies on it when its polygon rises
-      // in front (the foot of a box), or when it is the outline of a surface
-      // lying flat on the plane and facing the same way, so covering it (a
-      // light on its ceiling). One facing it instead (a light just over a
-      // wall) hides nothing.
-      if (!front && !(flat && covers && outline.count(key))) continue;
+      // in front (the foot of a box). The outline of a surface lying flat on
+      // the plane (a light drawn on its ceiling, lifted a hair in front) is
+      // not one: the ceiling darkens toward it only within that hair, and a
+      // node on the outline holding that limit shades a whole element
+      // beside the light dark (a ring around every lamp of two rooms).
+      if (!front) continue;
       if (taken.insert(key).second) out.push_back({on_plane(a), on_plane(b)});
     }
     if (!(front && back)) continue;
@@ -149,8 +134,6 @@ std::vector<std::vector<Segment3>> find_contact_lines(const std::vector<Surface>
     }
   }
 
-  std::vector<std::set<std::uint64_t>> outline(count);
-  std::vector<bool> has_outline(count, false);
   for (std::size_t s = 0; s < count; ++s) {
     const Surface& planar = surfaces[s];
     if (!planar.planar || near[s].empty()) continue;
@@ -159,11 +142,7 @@ std::vector<std::vector<Segment3>> find_contact_lines(const std::vector<Surface>
     offset /= static_cast<double>(planar.points.size());
     std::sort(near[s].begin(), near[s].end());
     for (std::size_t o : near[s]) {
-      if (!has_outline[o]) {
-        outline[o] = outline_edges(surfaces[o]);
-        has_outline[o] = true;
-      }
-      add_contacts(planar, offset, surfaces[o], outline[o], tolerance, contacts[s]);
+      add_contacts(planar, offset, surfaces[o], tolerance, contacts[s]);
     }
   }
   return contacts;

@@ -16,17 +16,14 @@ namespace lhr {
 using Segment3 = std::array<Vec3, 2>;
 
 // Distance from a plane below which a point counts as lying on it: a
-// fraction of the scene's size, above the offset that puts a light drawn on
-// its ceiling in front of it (mesh/surfaces.hpp), so that the light's
-// outline is found on the ceiling.
+// fraction of the scene's size.
 double contact_tolerance(const std::vector<Surface>& surfaces);
 
 // For each surface, the segments (endpoints within `tolerance` of its plane,
 // not yet clipped to its region) where another surface meets its front:
 // edges of the other surface lying on the plane where that surface leaves
-// the plane towards the front, or where it lies flat on the plane facing
-// the same way (its outline); and the lines where the other surface crosses
-// the plane. Empty
+// the plane towards the front, and the lines where it crosses the plane. A
+// surface lying flat on the plane (a light drawn on its ceiling) adds none. Empty
 // for curved surfaces.
 std::vector<std::vector<Segment3>> find_contact_lines(const std::vector<Surface>& surfaces, double tolerance);
 

@@ -128,9 +128,11 @@ TEST(ContactLines, ABoxSunkIntoTheFloorIsCutAlongWhereItCrossesIt) {
   EXPECT_TRUE(respects_rectangle(mesh, 2.0, 5.0, 2.0, 4.0, 1e-9));
 }
 
-TEST(ContactLines, ALightJustBelowItsCeilingLeavesItsOutline) {
+TEST(ContactLines, ALightJustBelowItsCeilingLeavesNoOutline) {
   // The ceiling y = 3 faces down; the light, a little below, faces down too
-  // (as after the loader lifts a light drawn on its ceiling).
+  // (as after the loader lifts a light drawn on its ceiling). The ceiling
+  // darkens toward the light's edge only within that gap, so the edge is not
+  // a line to mesh: a node on it would shade an element beside the lamp.
   const Surface ceiling = planar_surface({{0, 3, 0}, {10, 3, 0}, {10, 3, 10}, {0, 3, 10}}, {{0, 1, 2, 3}});
   const double lift = 1e-4 * std::sqrt(10 * 10 + 10 * 10 + 3 * 3);
   const double y = 3 - lift;
@@ -139,12 +141,8 @@ TEST(ContactLines, ALightJustBelowItsCeilingLeavesItsOutline) {
   ASSERT_LT(light.normal[1], -0.99);
   const std::vector<Surface> surfaces{ceiling, light};
   const double tolerance = contact_tolerance(surfaces);
-  ASSERT_GT(tolerance, lift);
-  const auto contacts = find_contact_lines(surfaces, tolerance);
-  EXPECT_NEAR(total_length(contacts[0]), 2 * (2.0 + 3.0), 1e-9);
-  const TriMesh mesh = mesh_surface(surfaces[0], options(3.0), contacts[0], tolerance);
-  EXPECT_TRUE(respects_rectangle(mesh, 4, 6, 4, 7, 1e-9));
-  for (const auto v : mesh.vertices()) EXPECT_NEAR(mesh.point(v)[1], 3.0, 1e-12);
+  ASSERT_GT(tolerance, lift) << "the light counts as lying on the ceiling";
+  EXPECT_TRUE(find_contact_lines(surfaces, tolerance)[0].empty());
 }
 
 TEST(ContactLines, BoxesPushedIntoEachOtherAndAgainstTheWallMeshCleanly) {

@@ -216,22 +216,37 @@ std::vector<NodeId> LinearSolver::children(int s, NodeId e) {
 Rgb LinearSolver::shooter_value(int s, NodeId e, int l) const {
   const SurfaceState& st = surfaces_[s];
   if (is_cluster_element(e)) return l == 0 ? st.cluster_radiance[cluster_index(e)] : Rgb(0, 0, 0);
+  // A node made since the last pull is a leaf: its corner values are its own.
+  if (static_cast<std::size_t>(e) < st.shooter.corners.size()) return st.shooter.corners[e][l];
   return st.radiance[model_.hierarchy(s).corners(e)[l]];
 }
 
+void LinearSolver::pull(int s) {
+  // docs/accuracy.md, "What a coarse triangle shoots": every element shoots
+  // with the projection of the leaves' radiance below it, which carries
+  // their integral; a cluster with the mean of its roots' integrals, each
+  // weighted by how open the root is (a floor shoots with what its lit part
+  // gives, not the part under a block).
+  SurfaceState& st = surfaces_[s];
+  const SurfaceHierarchy& h = model_.hierarchy(s);
+  std::vector<double> node_area(h.num_nodes());
+  for (std::size_t n = 0; n < node_area.size(); ++n) node_area[n] = model_.area(s, static_cast<NodeId>(n));
+  st.shooter = project_linear_nodes(h, st.radiance, node_area);
+  for (std::size_t c = 0; c < st.clusters.size(); ++c) {
+    const RootCluster& cluster = st.clusters[c];
+    const bool open = cluster.exposed_area > 0;
+    Rgb weighted(0, 0, 0);
+    for (NodeId root : cluster.roots) weighted += (open ? st.root_exposure[root] : 1.0) * st.shooter.integral[root];
+    st.cluster_radiance[c] = weighted / std::max(open ? cluster.exposed_area : cluster.area, 1e-300);
+  }
+}
+
 void LinearSolver::update_spread() {
-  // A pull of its own: how far each element's values are from the leaves below.
   const auto start = Clock::now();
   tbb::parallel_for(0, model_.num_surfaces(), [&](int s) {
     SurfaceState& st = surfaces_[s];
-    const SurfaceHierarchy& h = model_.hierarchy(s);
-    st.node_spread = linear_node_spread(h, st.radiance);
-    st.cluster_spread = cluster_spread(st.clusters, st.cluster_radiance, st.root_exposure, st.node_spread,
-                                       [&](NodeId root) {
-                                         const auto& k = h.corners(root);
-                                         return std::array<Rgb, 3>{st.radiance[k[0]], st.radiance[k[1]],
-                                                                   st.radiance[k[2]]};
-                                       });
+    st.cluster_spread = cluster_spread(st.clusters, st.cluster_radiance, st.root_exposure, st.shooter.spread,
+                                       [&](NodeId root) { return st.shooter.corners[root]; });
   });
   stats_.seconds_push_pull += seconds_since(start);
 }
@@ -244,7 +259,7 @@ double LinearSolver::representation_error(int s, const GraphLink& link, const Rg
   // front; a coarse triangle's corners across a shadow inside it).
   const SurfaceState& st = surfaces_[s];
   const bool cluster = is_cluster_element(link.shooter);
-  const std::vector<Rgb>& spreads = cluster ? st.cluster_spread : st.node_spread;
+  const std::vector<Rgb>& spreads = cluster ? st.cluster_spread : st.shooter.spread;
   const std::size_t index = cluster ? static_cast<std::size_t>(cluster_index(link.shooter))
                                     : static_cast<std::size_t>(link.shooter);
   if (index >= spreads.size()) return 0.0;
@@ -603,20 +618,7 @@ double LinearSolver::push() {
       change[r] = std::max(change[r], std::abs(luminance(value) - luminance(st.radiance[v])));
       st.radiance[v] = value;
     }
-    // Pull for the constant-basis shooters: the exact mean of the linear
-    // function over each cluster's roots, weighted by how open each root is
-    // (a floor shoots with what its lit part gives, not the part under a block).
-    for (std::size_t c = 0; c < st.clusters.size(); ++c) {
-      const RootCluster& cluster = st.clusters[c];
-      const bool open = cluster.exposed_area > 0;
-      Rgb weighted(0, 0, 0);
-      for (NodeId root : cluster.roots) {
-        const auto& k = model_.hierarchy(r).corners(root);
-        const double weight = model_.area(r, root) * (open ? st.root_exposure[root] : 1.0);
-        weighted += weight / 3.0 * (st.radiance[k[0]] + st.radiance[k[1]] + st.radiance[k[2]]);
-      }
-      st.cluster_radiance[c] = weighted / std::max(open ? cluster.exposed_area : cluster.area, 1e-300);
-    }
+    pull(r);
   });
   stats_.seconds_push_pull += seconds_since(start);
   return *std::max_element(change.begin(), change.end());
@@ -1078,7 +1080,9 @@ void LinearSolver::collect_stats() {
     const SurfaceState& st = surfaces_[s];
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +
-                           (st.node_spread.capacity() + st.cluster_spread.capacity()) * sizeof(Rgb) +
+                           st.shooter.corners.capacity() * sizeof(st.shooter.corners[0]) +
+                           (st.shooter.integral.capacity() + st.shooter.spread.capacity() +
+                            st.cluster_spread.capacity()) * sizeof(Rgb) +
                            (st.pixels.capacity() + st.deposit.capacity() + st.importance.capacity()) * sizeof(double);
   }
   stats_.world_adaptation = adaptation_;

@@ -24,6 +24,7 @@
 #include "radiosity/interaction_graph.hpp"
 #include "radiosity/root_clusters.hpp"
 #include "radiosity/scene_model.hpp"
+#include "radiosity/shooter_spread.hpp"
 #include "radiosity/tone_map.hpp"
 
 namespace lhr {
@@ -158,9 +159,9 @@ class LinearSolver {
     std::vector<RootCluster> clusters;
     std::vector<double> root_exposure;  // per root: its fraction open to the scene
     std::vector<Rgb> cluster_radiance;  // mean over each cluster
-    // Bounds on how far each node's corner values and each cluster's mean
-    // are from the radiance they stand for (shooter_spread.hpp).
-    std::vector<Rgb> node_spread;
+    // What each node shoots with and how far that is from the radiance it
+    // stands for; the same bound for each cluster's mean (shooter_spread.hpp).
+    LinearShooterValues shooter;
     std::vector<Rgb> cluster_spread;
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it
@@ -211,6 +212,7 @@ class LinearSolver {
   void seed_vertices(int graph, const std::vector<InteractionGraph::NewVertex>& created,
                      std::vector<PendingLink>& pending);
   Rgb shooter_value(int s, NodeId element, int l) const;
+  void pull(int s);
   void update_spread();
   double representation_error(int s, const GraphLink& link, const Rgb& rho) const;
   std::unordered_map<std::uint64_t, double> shared_representation_error(const std::vector<PendingLink>& links) const;

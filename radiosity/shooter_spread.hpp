@@ -16,12 +16,25 @@
 
 namespace lhr {
 
-// Linear elements: per node, per channel, a bound on |L(x) − P(x)| over the
-// node, where L is the piecewise-linear radiance of the node's leaves and P
-// the linear interpolant of its three corner values. 0 at a leaf. Built
-// bottom-up: a child's bound plus how far its corners (the parent's edge
-// midpoints) are from the parent's interpolant.
-std::vector<Rgb> linear_node_spread(const SurfaceHierarchy& h, const std::vector<Rgb>& vertex_radiance);
+// What a linear element shoots with (docs/accuracy.md, "What a coarse triangle
+// shoots"): the L2 projection of its leaves' piecewise-linear radiance L onto
+// its three hat functions, not L at its corners. A receiver far off sees a
+// near-constant kernel over the element, so the element must carry L's
+// integral; the corner values of a floor triangle with a lamp's hot spot
+// inside it miss the spot and shoot too little. Where the projection would go
+// negative it is drawn toward its mean until it is not (a radiance below 0 is
+// not light); the mean, and so the power, is kept.
+struct LinearShooterValues {
+  std::vector<std::array<Rgb, 3>> corners;  // per node, at its corners
+  std::vector<Rgb> integral;                // per node, ∫ L dA over it
+  // Per node, per channel, a bound on |L(x) − P(x)| over the node, P the
+  // node's projected linear function; 0 at a leaf (a leaf is its own L).
+  std::vector<Rgb> spread;
+};
+
+// node_area(n): node n's area. Children must have larger ids than parents.
+LinearShooterValues project_linear_nodes(const SurfaceHierarchy& h, const std::vector<Rgb>& vertex_radiance,
+                                         const std::vector<double>& node_area);
 
 // Constant elements: per node, per channel, max |L(leaf) − L(node)| over the
 // leaves below it. 0 at a leaf.

@@ -158,23 +158,141 @@ Rgb interpolant(const SurfaceHierarchy& h, const std::vector<Rgb>& L, NodeId n, 
   return (1 - u - v) * L[k[0]] + u * L[k[1]] + v * L[k[2]];
 }
 
-TEST(ShooterSpread, LinearRadianceHasNoSpread) {
+// Node n's projected linear function at p.
+Rgb projected(const SurfaceHierarchy& h, const LinearShooterValues& values, NodeId n, const Vec3& p) {
+  std::vector<Rgb> corner_values(h.num_vertices(), Rgb(0, 0, 0));
+  for (int l = 0; l < 3; ++l) corner_values[h.corners(n)[l]] = values.corners[n][l];
+  return interpolant(h, corner_values, n, p);
+}
+
+std::vector<double> node_areas(const SurfaceHierarchy& h) {
+  std::vector<double> area;
+  for (NodeId n = 0; n < static_cast<NodeId>(h.num_nodes()); ++n) {
+    const auto& k = h.corners(n);
+    area.push_back(0.5 * OpenMesh::cross(h.point(k[1]) - h.point(k[0]), h.point(k[2]) - h.point(k[0])).norm());
+  }
+  return area;
+}
+
+std::vector<Rgb> random_radiance(const SurfaceHierarchy& h, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> value(0.0, 1.0);
+  std::vector<Rgb> L;
+  for (std::size_t v = 0; v < h.num_vertices(); ++v) L.push_back(Rgb(value(random), value(random), value(random)));
+  return L;
+}
+
+std::vector<NodeId> leaves_below(const SurfaceHierarchy& h, NodeId n) {
+  std::vector<NodeId> out, stack{n};
+  while (!stack.empty()) {
+    const NodeId m = stack.back();
+    stack.pop_back();
+    if (h.is_leaf(m)) {
+      out.push_back(m);
+    } else {
+      for (int c = 0; c < 4; ++c) stack.push_back(h.child(m, c));
+    }
+  }
+  return out;
+}
+
+TEST(ShooterSpread, LinearRadianceIsItsOwnProjection) {
   const SurfaceHierarchy h = split_triangle();
   std::vector<Rgb> L;
   for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
     const Vec3 p = h.point(v);
-    L.push_back(Rgb(1 + 2 * p[0] + 3 * p[1], 0.5 - p[0], 4 * p[1]));
+    L.push_back(Rgb(1 + 2 * p[0] + 3 * p[1], 0.5 + p[0], 4 * p[1]));
   }
-  for (const Rgb& s : linear_node_spread(h, L)) EXPECT_LT(s.max(), 1e-12);
+  const LinearShooterValues values = project_linear_nodes(h, L, node_areas(h));
+  for (NodeId n = 0; n < static_cast<NodeId>(h.num_nodes()); ++n) {
+    EXPECT_LT(values.spread[n].max(), 1e-12);
+    for (int l = 0; l < 3; ++l) {
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(values.corners[n][l][c], L[h.corners(n)[l]][c], 1e-12) << "node " << n;
+    }
+  }
+}
+
+TEST(ShooterSpread, ProjectionIsOrthogonalToEveryLinearFunctionOverTheLeaves) {
+  // The L2 projection P of L onto the node's hat functions: ∫ (L − P) N_l = 0
+  // for each of them, integrated leaf by leaf with the edge-midpoint rule
+  // (exact for the quadratic (L − P) N_l on a leaf, where L is linear).
+  const SurfaceHierarchy h = split_triangle();
+  const std::vector<double> area = node_areas(h);
+  // Values above a floor so that no projection is clamped.
+  std::vector<Rgb> L = random_radiance(h, 11);
+  for (Rgb& v : L) v += Rgb(2, 2, 2);
+  const LinearShooterValues values = project_linear_nodes(h, L, area);
+  for (NodeId n = 0; n < static_cast<NodeId>(h.num_nodes()); ++n) {
+    std::array<Rgb, 3> residual{Rgb(0, 0, 0), Rgb(0, 0, 0), Rgb(0, 0, 0)};
+    Rgb integral(0, 0, 0);
+    for (NodeId leaf : leaves_below(h, n)) {
+      const auto& k = h.corners(leaf);
+      for (int e = 0; e < 3; ++e) {
+        const Vec3 mid = 0.5 * (h.point(k[e]) + h.point(k[(e + 1) % 3]));
+        const Rgb l_here = 0.5 * (L[k[e]] + L[k[(e + 1) % 3]]);
+        const Rgb off = l_here - projected(h, values, n, mid);
+        for (int l = 0; l < 3; ++l) {
+          std::vector<Rgb> hat(h.num_vertices(), Rgb(0, 0, 0));
+          hat[h.corners(n)[l]] = Rgb(1, 1, 1);
+          const double weight = interpolant(h, hat, n, mid)[0];
+          residual[l] += area[leaf] / 3.0 * weight * off;
+        }
+        integral += area[leaf] / 3.0 * l_here;
+      }
+    }
+    for (int l = 0; l < 3; ++l) {
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(residual[l][c], 0.0, 1e-12) << "node " << n << " hat " << l;
+    }
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(values.integral[n][c], integral[c], 1e-12) << "node " << n;
+  }
+}
+
+TEST(ShooterSpread, AHotSpotInsideATriangleIsCarriedByItsProjectionNotItsCorners) {
+  // Dark corners and one bright vertex deep inside: the corners' interpolant
+  // carries nothing of it, the projection carries its whole integral.
+  const SurfaceHierarchy h = split_triangle();
+  const std::vector<double> area = node_areas(h);
+  std::vector<Rgb> L(h.num_vertices(), Rgb(0, 0, 0));
+  const NodeId deep = h.child(h.child(h.child(0, 2), 3), 0);
+  const VertexId hot = h.corners(deep)[1];
+  L[hot] = Rgb(5, 5, 5);
+  const LinearShooterValues values = project_linear_nodes(h, L, area);
+  for (VertexId v : h.corners(0)) EXPECT_EQ(L[v].max(), 0.0);
+  double integral = 0.0;
+  for (NodeId leaf : h.leaves()) {
+    for (VertexId v : h.corners(leaf)) integral += area[leaf] / 3.0 * L[v][0];
+  }
+  ASSERT_GT(integral, 0.0);
+  EXPECT_NEAR(values.integral[0][0], integral, 1e-12);
+  const auto& p = values.corners[0];
+  EXPECT_NEAR(area[0] * (p[0][0] + p[1][0] + p[2][0]) / 3.0, integral, 1e-12);
+  for (int l = 0; l < 3; ++l) EXPECT_GE(p[l][0], 0.0);
+}
+
+TEST(ShooterSpread, ASpikeAtACornerIsNotProjectedBelowZero) {
+  // All of L at one corner of the root: the plain projection is negative at
+  // the other two; drawn toward the mean, it stays at 0 or above with the
+  // same integral.
+  const SurfaceHierarchy h = split_triangle();
+  const std::vector<double> area = node_areas(h);
+  std::vector<Rgb> L(h.num_vertices(), Rgb(0, 0, 0));
+  const NodeId corner_leaf = h.child(h.child(0, 2), 2);
+  ASSERT_TRUE(h.is_leaf(corner_leaf));
+  L[h.corners(0)[2]] = Rgb(1, 1, 1);
+  const LinearShooterValues values = project_linear_nodes(h, L, area);
+  const double integral = area[corner_leaf] / 3.0;
+  const auto& p = values.corners[0];
+  EXPECT_NEAR(values.integral[0][0], integral, 1e-12);
+  EXPECT_NEAR(area[0] * (p[0][1] + p[1][1] + p[2][1]) / 3.0, integral, 1e-12);
+  for (int l = 0; l < 3; ++l) EXPECT_GE(p[l][1], 0.0);
+  EXPECT_EQ(std::min({p[0][1], p[1][1], p[2][1]}), 0.0);
 }
 
 TEST(ShooterSpread, LinearSpreadBoundsEveryVertexBelowAndIsExactOneLevelDown) {
   const SurfaceHierarchy h = split_triangle();
-  std::mt19937 random(7);
-  std::uniform_real_distribution<double> value(0.0, 1.0);
-  std::vector<Rgb> L;
-  for (std::size_t v = 0; v < h.num_vertices(); ++v) L.push_back(Rgb(value(random), value(random), value(random)));
-  const std::vector<Rgb> spread = linear_node_spread(h, L);
+  const std::vector<Rgb> L = random_radiance(h, 7);
+  const LinearShooterValues values = project_linear_nodes(h, L, node_areas(h));
+  const std::vector<Rgb>& spread = values.spread;
   for (NodeId n = 0; n < static_cast<NodeId>(h.num_nodes()); ++n) {
     // Every vertex of every node below n.
     Rgb worst(0, 0, 0);
@@ -183,7 +301,7 @@ TEST(ShooterSpread, LinearSpreadBoundsEveryVertexBelowAndIsExactOneLevelDown) {
       const NodeId m = stack.back();
       stack.pop_back();
       for (VertexId v : h.corners(m)) {
-        const Rgb off = L[v] - interpolant(h, L, n, h.point(v));
+        const Rgb off = L[v] - projected(h, values, n, h.point(v));
         for (int c = 0; c < 3; ++c) worst[c] = std::max(worst[c], std::abs(off[c]));
       }
       if (!h.is_leaf(m)) {
@@ -195,7 +313,7 @@ TEST(ShooterSpread, LinearSpreadBoundsEveryVertexBelowAndIsExactOneLevelDown) {
       if (h.is_leaf(n)) {
         EXPECT_EQ(spread[n][c], 0.0);
       }
-      // Children that are leaves: the bound is the largest midpoint deviation itself.
+      // Children that are leaves: the bound is the largest deviation at their corners itself.
       bool one_level = !h.is_leaf(n);
       for (int k = 0; k < 4 && one_level; ++k) one_level = h.is_leaf(h.child(n, k));
       if (one_level) {

@@ -1,7 +1,7 @@
 #pragma once
 // How far a shooter element's representation can be from the radiance it
 // stands for (docs/design.md §4, shooter oracle). A link carries an element's basis
-// values — a cluster's mean, a triangle's corner values — to a receiver that
+// values — a cluster's mean, a triangle's projected values — to a receiver that
 // may see only part of it (the dark floor in front of a block, not the floor's
 // lit middle); what it carries is off by at most the link's form factor times
 // this spread, so the oracles refine where that product matters even when the

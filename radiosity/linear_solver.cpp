@@ -231,12 +231,12 @@ void LinearSolver::pull(int s) {
   const SurfaceHierarchy& h = model_.hierarchy(s);
   std::vector<double> node_area(h.num_nodes());
   for (std::size_t n = 0; n < node_area.size(); ++n) node_area[n] = model_.area(s, static_cast<NodeId>(n));
-  st.shooter = project_linear_nodes(h, st.radiance, node_area);
+  project_linear_nodes(h, st.radiance, node_area, st.shooter);
   for (std::size_t c = 0; c < st.clusters.size(); ++c) {
     const RootCluster& cluster = st.clusters[c];
     const bool open = cluster.exposed_area > 0;
     Rgb weighted(0, 0, 0);
-    for (NodeId root : cluster.roots) weighted += (open ? st.root_exposure[root] : 1.0) * st.shooter.integral[root];
+    for (NodeId root : cluster.roots) weighted += (open ? st.root_exposure[root] : 1.0) * st.shooter.root_integral[root];
     st.cluster_radiance[c] = weighted / std::max(open ? cluster.exposed_area : cluster.area, 1e-300);
   }
 }
@@ -487,10 +487,25 @@ double LinearSolver::unoccluded_form_factor(int r, VertexId v, int s) const {
 TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int s, NodeId shooter,
                                                  const TransportSampling& sampling, std::uint64_t& rays) const {
   if (is_cluster_element(shooter)) {
-    const RootCluster& c = surfaces_[s].clusters[cluster_index(shooter)];
+    const SurfaceState& st = surfaces_[s];
+    const RootCluster& c = st.clusters[cluster_index(shooter)];
     std::vector<std::array<Vec3, 3>> triangles;
     triangles.reserve(c.roots.size());
     for (NodeId root : c.roots) triangles.push_back(model_.triangle(s, root));
+    // docs/accuracy.md, "A bright part that sees more": the link carries the
+    // cluster's mean as this receiver weights its roots, from the radiance
+    // the cluster holds now.
+    const bool open = c.exposed_area > 0;
+    std::vector<double> value, openness;
+    value.reserve(c.roots.size());
+    openness.reserve(c.roots.size());
+    for (NodeId root : c.roots) {
+      const bool pulled = static_cast<std::size_t>(root) < st.shooter.root_integral.size();
+      value.push_back(pulled ? luminance(st.shooter.root_integral[root]) / model_.area(s, root) : 0.0);
+      openness.push_back(open ? st.root_exposure[root] : 1.0);
+    }
+    ShooterShape shape{value, openness, luminance(st.cluster_radiance[cluster_index(shooter)])};
+    const ShooterShape* shape_in = st.shooter.root_integral.empty() ? nullptr : &shape;
     const Surface& shooter_surface = model_.scene().surfaces[s];
     if (shooter == kWholeSurface && shooter_surface.planar) {
       std::vector<std::vector<Vec3>> polygons;
@@ -498,9 +513,9 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
         polygons.emplace_back();
         for (int i : polygon) polygons.back().push_back(shooter_surface.points[i]);
       }
-      return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays);
+      return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays, shape_in);
     }
-    return cluster_transport(point, triangles, model_.rays(), sampling, rays);
+    return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in);
   }
   return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
 }
@@ -1081,7 +1096,7 @@ void LinearSolver::collect_stats() {
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +
                            st.shooter.corners.capacity() * sizeof(st.shooter.corners[0]) +
-                           (st.shooter.integral.capacity() + st.shooter.spread.capacity() +
+                           (st.shooter.root_integral.capacity() + st.shooter.spread.capacity() +
                             st.cluster_spread.capacity()) * sizeof(Rgb) +
                            (st.pixels.capacity() + st.deposit.capacity() + st.importance.capacity()) * sizeof(double);
   }

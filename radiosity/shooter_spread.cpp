@@ -19,14 +19,13 @@ void raise_to(Rgb& bound, const Rgb& value) {
 
 }  // namespace
 
-LinearShooterValues project_linear_nodes(const SurfaceHierarchy& h, const std::vector<Rgb>& L,
-                                         const std::vector<double>& node_area) {
+void project_linear_nodes(const SurfaceHierarchy& h, const std::vector<Rgb>& L, const std::vector<double>& node_area,
+                          LinearShooterValues& out) {
   const std::size_t n = h.num_nodes();
-  LinearShooterValues out;
   out.corners.resize(n);
-  out.integral.assign(n, Rgb(0, 0, 0));
   out.spread.assign(n, Rgb(0, 0, 0));
-  // g[node][l] = ∫ L N_l dA over the node, N_l its hat function at corner l.
+  // g[node][l] = ∫ L N_l dA over the node, N_l its hat function at corner l;
+  // the hat functions sum to 1, so Σ_l g[node][l] = ∫ L dA.
   std::vector<std::array<Rgb, 3>> g(n);
   // A parent's hat function at each corner of each child, as weights on the
   // parent's corners: 1 at its own corner, ½ at an edge midpoint.
@@ -61,7 +60,6 @@ LinearShooterValues project_linear_nodes(const SurfaceHierarchy& h, const std::v
         g[i][l] = area / 12.0 * (L[v[l]] + sum);
         out.corners[i][l] = L[v[l]];
       }
-      out.integral[i] = area / 3.0 * sum;
       continue;
     }
     std::array<Rgb, 3> gi{Rgb(0, 0, 0), Rgb(0, 0, 0), Rgb(0, 0, 0)};
@@ -72,7 +70,6 @@ LinearShooterValues project_linear_nodes(const SurfaceHierarchy& h, const std::v
         const auto w = parent_weights(node, cv[m]);
         for (int l = 0; l < 3; ++l) gi[l] += w[l] * g[child][m];
       }
-      out.integral[i] += out.integral[child];
     }
     g[i] = gi;
     // The inverse of the hat functions' mass matrix A/12 [[2,1,1],[1,2,1],[1,1,2]].
@@ -103,7 +100,8 @@ LinearShooterValues project_linear_nodes(const SurfaceHierarchy& h, const std::v
     }
     out.spread[i] = bound;
   }
-  return out;
+  out.root_integral.resize(h.num_roots());
+  for (std::size_t r = 0; r < out.root_integral.size(); ++r) out.root_integral[r] = g[r][0] + g[r][1] + g[r][2];
 }
 
 std::vector<Rgb> constant_node_spread(const SurfaceHierarchy& h, const std::vector<Rgb>& L) {

@@ -26,15 +26,17 @@ namespace lhr {
 // not light); the mean, and so the power, is kept.
 struct LinearShooterValues {
   std::vector<std::array<Rgb, 3>> corners;  // per node, at its corners
-  std::vector<Rgb> integral;                // per node, ∫ L dA over it
+  std::vector<Rgb> root_integral;           // per root, ∫ L dA over it
   // Per node, per channel, a bound on |L(x) − P(x)| over the node, P the
   // node's projected linear function; 0 at a leaf (a leaf is its own L).
   std::vector<Rgb> spread;
 };
 
-// node_area(n): node n's area. Children must have larger ids than parents.
-LinearShooterValues project_linear_nodes(const SurfaceHierarchy& h, const std::vector<Rgb>& vertex_radiance,
-                                         const std::vector<double>& node_area);
+// node_area[n]: node n's area. Children must have larger ids than parents,
+// roots come first. Fills `out` in place (it is rebuilt every iteration and
+// keeps its capacity).
+void project_linear_nodes(const SurfaceHierarchy& h, const std::vector<Rgb>& vertex_radiance,
+                          const std::vector<double>& node_area, LinearShooterValues& out);
 
 // Constant elements: per node, per channel, max |L(leaf) − L(node)| over the
 // leaves below it. 0 at a leaf.

@@ -1,6 +1,7 @@
 #include "radiosity/transport.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <vector>
 
@@ -36,30 +37,41 @@ double kernel(const Vec3& x, const Vec3& nx, const Vec3& y, const Vec3& ny) {
 }
 
 // A cheap stand-in for the form factor of a triangle of a planar shooter
-// (unit normal m) from x, for drawing shadow rays: the disc of its area at
-// its centroid, A cosθx cosθy / (π r² + A). cosθx is widened by the
-// triangle's size so that a triangle across x's horizon is never left out;
-// cosθy is exact at the centroid (x's height over the plane is the same for
-// every triangle).
+// (unit normal m) from x: the disc of its area at its centroid,
+// A cosθx cosθy / (π r² + A); cosθy is exact at the centroid (x's height over
+// the plane is the same for every triangle).
 // Triangles within two of their own sizes of x get the exact value: there
 // the disc is far off, and for x on the shooter's plane (a wall's foot on
 // the floor) the limit puts all of the form factor in the triangles around x.
-double drawing_form_factor(const Vec3& x, const Vec3& n, const Vec3& m, const std::array<Vec3, 3>& t,
-                           const Vec3* approach) {
+// Two weights come out. For drawing shadow rays, cosθx is widened by the
+// triangle's size so that a triangle across x's horizon is never left out.
+// For weighing what the triangles hold (the shape factor) it is not: the
+// widening would favour the far triangles over the near exact ones.
+struct DiscFormFactors {
+  double drawing;
+  double weighing;
+};
+
+DiscFormFactors disc_form_factors(const Vec3& x, const Vec3& n, const Vec3& m, const std::array<Vec3, 3>& t,
+                                  const Vec3* approach) {
   const Vec3 d = (t[0] + t[1] + t[2]) / 3.0 - x;
   const double size2 = std::max({(t[1] - t[0]).sqrnorm(), (t[2] - t[1]).sqrnorm(), (t[0] - t[2]).sqrnorm()});
   const double r2 = d.sqrnorm();
-  if (r2 < 4.0 * size2) return point_triangle_form_factor(x, n, t, approach);
+  if (r2 < 4.0 * size2) {
+    const double exact = point_triangle_form_factor(x, n, t, approach);
+    return {exact, exact};
+  }
   const double r = std::sqrt(r2), size = std::sqrt(size2);
-  const double cos_x = std::clamp((OpenMesh::dot(n, d) + size) / r, 0.0, 1.0);
   const double cos_y = std::clamp(-OpenMesh::dot(m, d) / r, 0.0, 1.0);
   const double area = 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
-  return area * cos_x * cos_y / (M_PI * r2 + area);
+  const double disc = area * cos_y / (M_PI * r2 + area);
+  return {disc * std::clamp((OpenMesh::dot(n, d) + size) / r, 0.0, 1.0),
+          disc * std::clamp(OpenMesh::dot(n, d) / r, 0.0, 1.0)};
 }
 
 // Visible fraction of a constant-basis shooter made of triangles: k² shadow
 // rays to triangles drawn systematically by `cumulative` (running sums of
-// their form factors, exact or drawing_form_factor), one uniform point in
+// their form factors, exact or disc_form_factors), one uniform point in
 // each, every ray counting equally; pairs that do not face each other are
 // left out. 1 when no pair faces: nothing says the shooter is hidden.
 double visible_fraction(const ReceiverPoint& receiver, std::span<const std::array<Vec3, 3>> triangles,
@@ -201,9 +213,30 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
   return out;
 }
 
+namespace {
+
+// Σ F_j open_j value_j / (carried Σ F_j open_j) from running sums of the
+// triangles' form factors; 1 where nothing says otherwise (no shape, nothing
+// carried, nothing open in view).
+double shape_factor(const std::vector<double>& cumulative, const ShooterShape* shape) {
+  if (shape == nullptr || !(shape->carried > 0.0)) return 1.0;
+  assert(shape->value.size() == cumulative.size() && shape->openness.size() == cumulative.size());
+  double weighted = 0.0, weight = 0.0, previous = 0.0;
+  for (std::size_t j = 0; j < cumulative.size(); ++j) {
+    const double w = (cumulative[j] - previous) * shape->openness[j];
+    previous = cumulative[j];
+    weighted += w * shape->value[j];
+    weight += w;
+  }
+  return weight > 0.0 ? weighted / (weight * shape->carried) : 1.0;
+}
+
+}  // namespace
+
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
-                                        const TransportSampling& sampling, std::uint64_t& ray_count) {
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   std::vector<double> cumulative;
@@ -219,13 +252,14 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
   // form factor (systematic sampling), so hidden or back-facing parts of a
   // large shooter do not dilute the parts that carry the energy.
   const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count);
-  out.f[0] = static_cast<float>(ff * visible);
+  out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, shape));
   return out;
 }
 
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
                                         std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
-                                        const TransportSampling& sampling, std::uint64_t& ray_count) {
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   double ff = 0.0;
@@ -235,18 +269,24 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
   // Shadow rays are drawn by each triangle's form factor, approximated away
   // from x: the exact one for every triangle of a large surface cost half
   // again the solve time of a furnished room.
-  std::vector<double> cumulative;
+  std::vector<double> cumulative, weighing;
   cumulative.reserve(triangles.size());
+  if (shape != nullptr) weighing.reserve(triangles.size());
   const Vec3 m = unit_normal(triangles.front());
-  double sum = 0.0;
+  double sum = 0.0, weighed = 0.0;
   for (const auto& t : triangles) {
-    sum += drawing_form_factor(receiver.x, receiver.normal, m, t, approach);
+    const DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, t, approach);
+    sum += f.drawing;
     cumulative.push_back(sum);
+    if (shape != nullptr) {
+      weighed += f.weighing;
+      weighing.push_back(weighed);
+    }
   }
   // Nothing drawn: nothing says the surface is hidden.
   const double visible =
       sum > 0.0 ? visible_fraction(receiver, triangles, cumulative, rays, sampling, ray_count) : 1.0;
-  out.f[0] = static_cast<float>(ff * visible);
+  out.f[0] = static_cast<float>(ff * visible * shape_factor(weighing, shape));
   return out;
 }
 

@@ -42,12 +42,27 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
                                          const RayScene& rays, const TransportSampling& sampling,
                                          std::uint64_t& ray_count);
 
+// What the triangles of a constant-basis shooter hold, so that a link
+// carries what its receiver sees of them rather than their mean
+// (docs/accuracy.md, "A bright part that sees more"): per triangle its mean
+// luminance and how open it is to the scene, and the mean the shooter carries
+// (its triangles' luminance weighted by area and openness). The link's f[0]
+// is scaled by Σ F_j open_j value_j / (carried Σ F_j open_j), the mean as
+// this receiver's form factors weight it over the mean the element carries.
+struct ShooterShape {
+  std::span<const double> value;
+  std::span<const double> openness;
+  double carried = 0.0;
+};
+
 // Constant-basis shooter made of several triangles (a root cluster): f[0] is
 // the exact form factor of all of them times the visible fraction of shadow
-// rays drawn in proportion to each triangle's share of it.
+// rays drawn in proportion to each triangle's share of it (times the shape
+// factor when `shape` is given).
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
-                                        const TransportSampling& sampling, std::uint64_t& ray_count);
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape = nullptr);
 
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
 // form factor of its input polygons times the visible fraction of shadow rays
@@ -59,6 +74,7 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
 // from the foot of a wall by 30 % (docs/accuracy.md).
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
                                         std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
-                                        const TransportSampling& sampling, std::uint64_t& ray_count);
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape = nullptr);
 
 }  // namespace lhr

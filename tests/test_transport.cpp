@@ -162,5 +162,68 @@ TEST(TriangleTransport, AtTheFootOfAWallTheSplitIsTheWallsValueThere) {
   }
 }
 
+// A floor whose triangles hold different values: bright ones in the middle,
+// dark ones by the walls, as under a lamp. What a receiver gets from it as
+// one constant-basis shooter must be the floor's radiance weighted by that
+// receiver's kernel, not the floor's mean times the whole form factor: above
+// the bright middle the mean is too low, above a corner too high
+// (docs/accuracy.md, "A bright part that sees more"). The truth is a midpoint
+// quadrature of the kernel over the floor on a 400 × 400 grid.
+double floor_value(const Vec3& y) {
+  const double dx = y[0] - 0.5 * kRoom, dz = y[2] - 0.5 * kRoom;
+  return std::abs(dx) < 1.0 && std::abs(dz) < 1.0 ? 10.0 : 1.0;
+}
+
+double seen_from_above(const Vec3& x) {
+  constexpr int kGrid = 400;
+  const double cell = kRoom / kGrid;
+  double sum = 0.0;
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      const Vec3 y((i + 0.5) * cell, 0, (j + 0.5) * cell);
+      const Vec3 d = y - x;
+      const double r2 = d.sqrnorm();
+      sum += floor_value(y) * (x[1] * x[1]) / (M_PI * r2 * r2) * cell * cell;
+    }
+  }
+  return sum;
+}
+
+TEST(ClusterTransport, AReceiverGetsTheFloorAsItsOwnKernelWeighsIt) {
+  TriMesh floor_mesh;
+  const auto triangles = floor_triangles(4);  // 1 × 1 squares: the middle four are bright
+  for (const auto& t : triangles) {
+    floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
+  }
+  const RayScene rays({&floor_mesh});
+  std::vector<double> value, openness(triangles.size(), 1.0);
+  double mean = 0.0;
+  for (const auto& t : triangles) {
+    value.push_back(floor_value((t[0] + t[1] + t[2]) / 3.0));
+    mean += value.back() / static_cast<double>(triangles.size());  // equal areas
+  }
+  const ShooterShape shape{value, openness, mean};
+  const std::vector<std::vector<Vec3>> polygons{
+      {Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
+  for (const Vec3& x : {Vec3(2.0, 2.7, 2.0), Vec3(0.5, 2.7, 0.5), Vec3(3.6, 1.0, 2.2)}) {
+    ReceiverPoint receiver;
+    receiver.x = x;
+    receiver.normal = Vec3(0, -1, 0);
+    TransportSampling sampling;
+    sampling.key = 3;
+    std::uint64_t ray_count = 0;
+    const double truth = seen_from_above(x);
+    const TransportCoefficients cluster = cluster_transport(receiver, triangles, rays, sampling, ray_count, &shape);
+    EXPECT_NEAR(cluster.f[0] * mean / truth, 1.0, 0.002) << "cluster, receiver at " << x;
+    // The whole surface weighs its triangles by a disc estimate away from x.
+    const TransportCoefficients surface =
+        surface_transport(receiver, polygons, triangles, rays, sampling, ray_count, &shape);
+    EXPECT_NEAR(surface.f[0] * mean / truth, 1.0, 0.02) << "surface, receiver at " << x;
+    // Without the shape, the mean stands for the floor: far off here.
+    const TransportCoefficients plain = cluster_transport(receiver, triangles, rays, sampling, ray_count);
+    EXPECT_GT(std::abs(plain.f[0] * mean / truth - 1.0), 0.02) << "receiver at " << x;
+  }
+}
+
 }  // namespace
 }  // namespace lhr

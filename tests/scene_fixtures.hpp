@@ -45,12 +45,18 @@ inline Scene closed_cube(const Material& walls, const Material& top, const std::
   return scene_from_soup(soup, name);
 }
 
+// A grey material: reflectance rho and emission e in every channel.
+inline Material grey_material(const std::string& name, double rho, double e = 0.0) {
+  Material m;
+  m.name = name;
+  m.reflectance = Rgb(rho, rho, rho);
+  m.emission = Rgb(e, e, e);
+  return m;
+}
+
 // The furnace: every face the same material.
 inline Scene furnace_cube(double reflectance, double emission) {
-  Material m;
-  m.name = "furnace";
-  m.reflectance = Rgb(reflectance, reflectance, reflectance);
-  m.emission = Rgb(emission, emission, emission);
+  const Material m = grey_material("furnace", reflectance, emission);
   return closed_cube(m, m, "furnace cube");
 }
 
@@ -86,11 +92,8 @@ inline RawMesh raw_mesh(const TriMesh& mesh, const std::vector<Rgb>& values = {}
   return raw;
 }
 
-// What the scene camera (or the framing camera) sees, for the linear
-// solver's importance: at size x size pixels when size > 0, else its own.
-inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
-  Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
-  if (size > 0) camera.width = camera.height = size;
+// What `camera` sees, for the linear solver's importance.
+inline std::vector<ViewSample> view_from(const SceneModel& model, const Camera& camera) {
   std::vector<const TriMesh*> meshes;
   for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
   std::vector<ViewSample> view;
@@ -98,6 +101,14 @@ inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
     if (h.surface >= 0) view.push_back({h.surface, h.face, h.u, h.v});
   }
   return view;
+}
+
+// What the scene camera (or the framing camera) sees: at size x size pixels
+// when size > 0, else its own.
+inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
+  Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
+  if (size > 0) camera.width = camera.height = size;
+  return view_from(model, camera);
 }
 
 }  // namespace lhr::test

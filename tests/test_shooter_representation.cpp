@@ -37,15 +37,8 @@ std::vector<Vec3> light_polygon() {
 
 Scene floor_lit_from_one_side() {
   PolygonSoup soup;
-  Material floor, wall, light;
-  floor.name = "floor";
-  floor.reflectance = Rgb(kFloorReflectance, kFloorReflectance, kFloorReflectance);
-  wall.name = "wall";
-  wall.reflectance = Rgb(kWallReflectance, kWallReflectance, kWallReflectance);
-  light.name = "light";
-  light.reflectance = Rgb(0, 0, 0);
-  light.emission = Rgb(kEmission, kEmission, kEmission);
-  soup.materials = {floor, wall, light};
+  soup.materials = {test::grey_material("floor", kFloorReflectance), test::grey_material("wall", kWallReflectance),
+                    test::grey_material("light", 0.0, kEmission)};
   soup.groups = {"floor", "wall", "light"};
   test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
   // x = 0, facing +x, above the light's plane: it sees the light's back only.
@@ -386,11 +379,7 @@ TEST(ShooterRepresentation, LinearWallMatchesTheIntegralOverTheFloor) {
   camera.up = Vec3(0, 0, 1);
   camera.fov_y_deg = 60.0;
   camera.width = camera.height = 128;
-  std::vector<const TriMesh*> meshes;
-  for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
-  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
-    if (h.surface >= 0) options.view.push_back({h.surface, h.face, h.u, h.v});
-  }
+  options.view = test::view_from(model, camera);
   LinearSolver solver(model, options);
   solver.solve();
   const int wall = surface_named(model, "wall");
@@ -420,14 +409,9 @@ std::vector<Vec3> lamp_polygon() {
 
 Scene room_lit_by_a_lamp_under_its_ceiling() {
   PolygonSoup soup;
-  Material floor, ceiling, lamp;
-  floor.name = "floor";
-  floor.reflectance = Rgb(kLitFloorReflectance, kLitFloorReflectance, kLitFloorReflectance);
-  ceiling.name = "ceiling";
-  ceiling.reflectance = Rgb(kDimCeilingReflectance, kDimCeilingReflectance, kDimCeilingReflectance);
-  lamp.name = "lamp";
-  lamp.emission = Rgb(kLampEmission, kLampEmission, kLampEmission);
-  soup.materials = {floor, ceiling, lamp};
+  soup.materials = {test::grey_material("floor", kLitFloorReflectance),
+                    test::grey_material("ceiling", kDimCeilingReflectance),
+                    test::grey_material("lamp", 0.0, kLampEmission)};
   soup.groups = {"floor", "ceiling", "lamp"};
   test::add_quad(soup, Vec3(0, 0, 0), Vec3(kRoomX, 0, 0), Vec3(kRoomX, kRoomY, 0), Vec3(0, kRoomY, 0), 0, 0);
   test::add_quad(soup, Vec3(0, 0, kRoomHeight), Vec3(0, kRoomY, kRoomHeight), Vec3(kRoomX, kRoomY, kRoomHeight),
@@ -452,11 +436,7 @@ TEST(ShooterRepresentation, ACeilingLitByAFloorUnderALampGetsAllOfIt) {
   camera.fov_y_deg = 60.0;
   camera.width = 128;
   camera.height = 96;
-  std::vector<const TriMesh*> meshes;
-  for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
-  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
-    if (h.surface >= 0) options.view.push_back({h.surface, h.face, h.u, h.v});
-  }
+  options.view = test::view_from(model, camera);
   LinearSolver solver(model, options);
   solver.solve();
 

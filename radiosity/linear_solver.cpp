@@ -232,6 +232,12 @@ void LinearSolver::pull(int s) {
   std::vector<double> node_area(h.num_nodes());
   for (std::size_t n = 0; n < node_area.size(); ++n) node_area[n] = model_.area(s, static_cast<NodeId>(n));
   project_linear_nodes(h, st.radiance, node_area, st.shooter);
+  // Each root's mean luminance, for the shape factor of every cluster link made
+  // before the next pull (docs/accuracy.md, "A bright part that sees more").
+  st.root_luminance.resize(st.shooter.root_integral.size());
+  for (std::size_t root = 0; root < st.root_luminance.size(); ++root) {
+    st.root_luminance[root] = node_area[root] > 0 ? luminance(st.shooter.root_integral[root]) / node_area[root] : 0.0;
+  }
   for (std::size_t c = 0; c < st.clusters.size(); ++c) {
     const RootCluster& cluster = st.clusters[c];
     const bool open = cluster.exposed_area > 0;
@@ -500,12 +506,12 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
     value.reserve(c.roots.size());
     openness.reserve(c.roots.size());
     for (NodeId root : c.roots) {
-      const bool pulled = static_cast<std::size_t>(root) < st.shooter.root_integral.size();
-      value.push_back(pulled ? luminance(st.shooter.root_integral[root]) / model_.area(s, root) : 0.0);
+      const bool pulled = static_cast<std::size_t>(root) < st.root_luminance.size();
+      value.push_back(pulled ? st.root_luminance[root] : 0.0);
       openness.push_back(open ? st.root_exposure[root] : 1.0);
     }
     ShooterShape shape{value, openness, luminance(st.cluster_radiance[cluster_index(shooter)])};
-    const ShooterShape* shape_in = st.shooter.root_integral.empty() ? nullptr : &shape;
+    const ShooterShape* shape_in = st.root_luminance.empty() ? nullptr : &shape;
     const Surface& shooter_surface = model_.scene().surfaces[s];
     if (shooter == kWholeSurface && shooter_surface.planar) {
       std::vector<std::vector<Vec3>> polygons;
@@ -1096,6 +1102,7 @@ void LinearSolver::collect_stats() {
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +
                            st.shooter.corners.capacity() * sizeof(st.shooter.corners[0]) +
+                           st.root_luminance.capacity() * sizeof(double) +
                            (st.shooter.root_integral.capacity() + st.shooter.spread.capacity() +
                             st.cluster_spread.capacity()) * sizeof(Rgb) +
                            (st.pixels.capacity() + st.deposit.capacity() + st.importance.capacity()) * sizeof(double);

@@ -162,6 +162,7 @@ class LinearSolver {
     // What each node shoots with and how far that is from the radiance it
     // stands for; the same bound for each cluster's mean (shooter_spread.hpp).
     LinearShooterValues shooter;
+    std::vector<double> root_luminance;  // per root: its mean luminance at the last pull
     std::vector<Rgb> cluster_spread;
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it

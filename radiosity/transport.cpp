@@ -74,13 +74,22 @@ DiscFormFactors disc_form_factors(const Vec3& x, const Vec3& n, const Vec3& m, c
 // their form factors, exact or disc_form_factors), one uniform point in
 // each, every ray counting equally; pairs that do not face each other are
 // left out. 1 when no pair faces: nothing says the shooter is hidden.
+// `per_triangle`, when given, receives each traced ray's triangle and
+// whether it arrived.
+struct RayOutcome {
+  std::size_t triangle;
+  bool clear;
+};
+
 double visible_fraction(const ReceiverPoint& receiver, std::span<const std::array<Vec3, 3>> triangles,
                         const std::vector<double>& cumulative, const RayScene& rays,
-                        const TransportSampling& sampling, std::uint64_t& ray_count) {
+                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                        std::vector<RayOutcome>* per_triangle = nullptr) {
   const Vec3 origin = kernel_origin(receiver, rays);
   const std::size_t count = static_cast<std::size_t>(std::max(1, sampling.k * sampling.k));
   const double offset = unit_double(sample_key(sampling.key, 1));
   std::vector<ShadowRay> segments;
+  std::vector<std::size_t> target;
   for (std::size_t i = 0; i < count; ++i) {
     const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * cumulative.back();
     const std::size_t j = std::min<std::size_t>(
@@ -90,12 +99,16 @@ double visible_fraction(const ReceiverPoint& receiver, std::span<const std::arra
     const Vec3 y = at(triangles[j], ts), ny = unit_normal(triangles[j]);
     if (kernel(origin, receiver.normal, y, ny) > 0) {
       segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
+      target.push_back(j);
     }
   }
   if (segments.empty()) return 1.0;
   std::vector<std::uint8_t> blocked(segments.size());
   rays.occluded(segments, blocked);
   ray_count += segments.size();
+  if (per_triangle != nullptr) {
+    for (std::size_t i = 0; i < segments.size(); ++i) per_triangle->push_back({target[i], blocked[i] == 0});
+  }
   const auto clear = std::count(blocked.begin(), blocked.end(), std::uint8_t{0});
   return static_cast<double>(clear) / static_cast<double>(segments.size());
 }
@@ -215,20 +228,47 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
 
 namespace {
 
-// Σ F_j open_j value_j / (carried Σ F_j open_j) from running sums of the
-// triangles' form factors; 1 where nothing says otherwise (no shape, nothing
-// carried, nothing open in view).
-double shape_factor(const std::vector<double>& cumulative, const ShooterShape* shape) {
+// The mean a receiver sees of a constant-basis shooter's triangles, over
+// what it carries: Σ F_j open_j V_j value_j / (carried Σ F_j open_j V_j), from
+// running sums of the triangles' form factors (`weighing`). 1 where nothing
+// says otherwise (no shape, nothing carried, nothing open in view).
+// V_j, how much of triangle j the receiver sees, comes from the shadow rays
+// (drawn by `drawing`): each blocked ray takes its triangle's share out of
+// both sums, so a shooter seen whole keeps the exact weighted mean and no
+// sampling noise. The part of a floor under a table is both dark and hidden
+// from the ceiling; weighed by its form factor alone, it pulled the mean the
+// ceiling sees below what reaches it (docs/accuracy.md, "What a table hides").
+double shape_factor(const std::vector<double>& weighing, const std::vector<double>& drawing,
+                    const ShooterShape* shape, const std::vector<RayOutcome>& rays) {
   if (shape == nullptr || !(shape->carried > 0.0)) return 1.0;
-  assert(shape->value.size() == cumulative.size() && shape->openness.size() == cumulative.size());
-  double weighted = 0.0, weight = 0.0, previous = 0.0;
-  for (std::size_t j = 0; j < cumulative.size(); ++j) {
-    const double w = (cumulative[j] - previous) * shape->openness[j];
-    previous = cumulative[j];
+  assert(shape->value.size() == weighing.size() && shape->openness.size() == weighing.size());
+  assert(drawing.size() == weighing.size());
+  const auto share = [](const std::vector<double>& cumulative, std::size_t j) {
+    return cumulative[j] - (j > 0 ? cumulative[j - 1] : 0.0);
+  };
+  double weighted = 0.0, weight = 0.0;
+  for (std::size_t j = 0; j < weighing.size(); ++j) {
+    const double w = share(weighing, j) * shape->openness[j];
     weighted += w * shape->value[j];
     weight += w;
   }
-  return weight > 0.0 ? weighted / (weight * shape->carried) : 1.0;
+  if (!(weight > 0.0)) return 1.0;
+  const double unseen_mean = weighted / weight;
+  // A ray stands for drawing.back() / rays.size() of the drawing weight; its
+  // triangle's weighing share over its drawing share converts that.
+  const double per_ray = rays.empty() ? 0.0 : drawing.back() / static_cast<double>(rays.size());
+  for (const RayOutcome& r : rays) {
+    if (r.clear) continue;
+    const double d = share(drawing, r.triangle);
+    if (!(d > 0.0)) continue;
+    const double w = per_ray * share(weighing, r.triangle) / d * shape->openness[r.triangle];
+    weighted -= w * shape->value[r.triangle];
+    weight -= w;
+  }
+  // Every ray blocked, or the estimate left nothing: the shooter's value
+  // then matters little (the visible fraction is small), so keep the mean.
+  const double mean = weight > 0.0 && weighted >= 0.0 ? weighted / weight : unseen_mean;
+  return mean / shape->carried;
 }
 
 }  // namespace
@@ -251,8 +291,9 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
   // Shadow rays go to triangles drawn in proportion to their share of the
   // form factor (systematic sampling), so hidden or back-facing parts of a
   // large shooter do not dilute the parts that carry the energy.
-  const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count);
-  out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, shape));
+  std::vector<RayOutcome> outcomes;
+  const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count, &outcomes);
+  out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, cumulative, shape, outcomes));
   return out;
 }
 
@@ -284,9 +325,10 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
     }
   }
   // Nothing drawn: nothing says the surface is hidden.
+  std::vector<RayOutcome> outcomes;
   const double visible =
-      sum > 0.0 ? visible_fraction(receiver, triangles, cumulative, rays, sampling, ray_count) : 1.0;
-  out.f[0] = static_cast<float>(ff * visible * shape_factor(weighing, shape));
+      sum > 0.0 ? visible_fraction(receiver, triangles, cumulative, rays, sampling, ray_count, &outcomes) : 1.0;
+  out.f[0] = static_cast<float>(ff * visible * shape_factor(weighing, cumulative, shape, outcomes));
   return out;
 }
 

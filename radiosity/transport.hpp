@@ -47,8 +47,10 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
 // (docs/accuracy.md, "A bright part that sees more"): per triangle its mean
 // luminance and how open it is to the scene, and the mean the shooter carries
 // (its triangles' luminance weighted by area and openness). The link's f[0]
-// is scaled by Σ F_j open_j value_j / (carried Σ F_j open_j), the mean as
-// this receiver's form factors weight it over the mean the element carries.
+// is scaled by Σ F_j open_j V_j value_j / (carried Σ F_j open_j V_j), the
+// mean as this receiver's form factors and shadow rays weight it over the
+// mean the element carries (V_j: the share of triangle j the rays find
+// visible; docs/accuracy.md, "What a table hides").
 struct ShooterShape {
   std::span<const double> value;
   std::span<const double> openness;

@@ -103,6 +103,19 @@ inline std::vector<ViewSample> view_from(const SceneModel& model, const Camera& 
   return view;
 }
 
+// What a camera at `eye` looking at `target` sees, width x height pixels.
+inline std::vector<ViewSample> view_from(const SceneModel& model, const Vec3& eye, const Vec3& target, const Vec3& up,
+                                         double fov_y_deg, int width, int height) {
+  Camera camera;
+  camera.eye = eye;
+  camera.target = target;
+  camera.up = up;
+  camera.fov_y_deg = fov_y_deg;
+  camera.width = width;
+  camera.height = height;
+  return view_from(model, camera);
+}
+
 // What the scene camera (or the framing camera) sees: at size x size pixels
 // when size > 0, else its own.
 inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {

@@ -373,13 +373,7 @@ TEST(ShooterRepresentation, LinearWallMatchesTheIntegralOverTheFloor) {
   // few per node: the paper's per-node test alone keeps the whole-floor link
   // at every wall node (its mean then shows on the whole wall).
   LinearOptions options;
-  Camera camera;
-  camera.eye = Vec3(1.6, 0.5, 0.9);
-  camera.target = Vec3(0.0, 0.5, 0.4);
-  camera.up = Vec3(0, 0, 1);
-  camera.fov_y_deg = 60.0;
-  camera.width = camera.height = 128;
-  options.view = test::view_from(model, camera);
+  options.view = test::view_from(model, Vec3(1.6, 0.5, 0.9), Vec3(0.0, 0.5, 0.4), Vec3(0, 0, 1), 60.0, 128, 128);
   LinearSolver solver(model, options);
   solver.solve();
   const int wall = surface_named(model, "wall");
@@ -429,14 +423,7 @@ TEST(ShooterRepresentation, ACeilingLitByAFloorUnderALampGetsAllOfIt) {
   // A camera outside the open side, looking in: the ceiling gets few pixels
   // per node, the floor many.
   LinearOptions options;
-  Camera camera;
-  camera.eye = Vec3(2.5, -3.0, 1.0);
-  camera.target = Vec3(2.5, 2.0, 1.3);
-  camera.up = Vec3(0, 0, 1);
-  camera.fov_y_deg = 60.0;
-  camera.width = 128;
-  camera.height = 96;
-  options.view = test::view_from(model, camera);
+  options.view = test::view_from(model, Vec3(2.5, -3.0, 1.0), Vec3(2.5, 2.0, 1.3), Vec3(0, 0, 1), 60.0, 128, 96);
   LinearSolver solver(model, options);
   solver.solve();
 
@@ -511,14 +498,7 @@ double floor_under_a_low_lamp_reads(double lamp_height, double lamp_side) {
   meshing.max_edge = 0.7;  // as lhr solve chooses for four such rooms side by side
   SceneModel model(scene, meshing);
   LinearOptions options;
-  Camera camera;
-  camera.eye = Vec3(0.5, 3.5, 2.0);
-  camera.target = Vec3(0.5, 3.5, 3.0);
-  camera.up = Vec3(0, 1, 0);
-  camera.fov_y_deg = 30.0;
-  camera.width = 64;
-  camera.height = 64;
-  options.view = test::view_from(model, camera);
+  options.view = test::view_from(model, Vec3(0.5, 3.5, 2.0), Vec3(0.5, 3.5, 3.0), Vec3(0, 1, 0), 30.0, 64, 64);
   LinearSolver solver(model, options);
   solver.solve();
 

@@ -174,19 +174,46 @@ double floor_value(const Vec3& y) {
   return std::abs(dx) < 1.0 && std::abs(dz) < 1.0 ? 10.0 : 1.0;
 }
 
-double seen_from_above(const Vec3& x) {
+// Each floor triangle's value at its centroid, all open, and their mean (the
+// triangles have equal areas): what a constant-basis floor carries.
+struct TriangleValues {
+  std::vector<double> value, openness;
+  double mean = 0.0;
+  template <typename Value>
+  TriangleValues(const std::vector<std::array<Vec3, 3>>& triangles, Value at) : openness(triangles.size(), 1.0) {
+    for (const auto& t : triangles) {
+      value.push_back(at((t[0] + t[1] + t[2]) / 3.0));
+      mean += value.back() / static_cast<double>(triangles.size());
+    }
+  }
+  ShooterShape shape() const { return {value, openness, mean}; }
+};
+
+std::vector<std::vector<Vec3>> whole_floor() {
+  return {{Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
+}
+
+// ∫ value(y) V(x, y) cosθx cosθy / (π r²) dy over the floor, for x facing
+// straight down: a midpoint rule on a 400 × 400 grid, leaving out the points
+// `hidden` says x cannot see.
+template <typename Value, typename Hidden>
+double floor_seen_from(const Vec3& x, Value value, Hidden hidden) {
   constexpr int kGrid = 400;
   const double cell = kRoom / kGrid;
   double sum = 0.0;
   for (int i = 0; i < kGrid; ++i) {
     for (int j = 0; j < kGrid; ++j) {
       const Vec3 y((i + 0.5) * cell, 0, (j + 0.5) * cell);
-      const Vec3 d = y - x;
-      const double r2 = d.sqrnorm();
-      sum += floor_value(y) * (x[1] * x[1]) / (M_PI * r2 * r2) * cell * cell;
+      if (hidden(y)) continue;
+      const double r2 = (y - x).sqrnorm();
+      sum += value(y) * (x[1] * x[1]) / (M_PI * r2 * r2) * cell * cell;
     }
   }
   return sum;
+}
+
+double seen_from_above(const Vec3& x) {
+  return floor_seen_from(x, floor_value, [](const Vec3&) { return false; });
 }
 
 TEST(ClusterTransport, AReceiverGetsTheFloorAsItsOwnKernelWeighsIt) {
@@ -196,15 +223,10 @@ TEST(ClusterTransport, AReceiverGetsTheFloorAsItsOwnKernelWeighsIt) {
     floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
   }
   const RayScene rays({&floor_mesh});
-  std::vector<double> value, openness(triangles.size(), 1.0);
-  double mean = 0.0;
-  for (const auto& t : triangles) {
-    value.push_back(floor_value((t[0] + t[1] + t[2]) / 3.0));
-    mean += value.back() / static_cast<double>(triangles.size());  // equal areas
-  }
-  const ShooterShape shape{value, openness, mean};
-  const std::vector<std::vector<Vec3>> polygons{
-      {Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
+  const TriangleValues values(triangles, floor_value);
+  const ShooterShape shape = values.shape();
+  const double mean = values.mean;
+  const auto polygons = whole_floor();
   for (const Vec3& x : {Vec3(2.0, 2.7, 2.0), Vec3(0.5, 2.7, 0.5), Vec3(3.6, 1.0, 2.2)}) {
     ReceiverPoint receiver;
     receiver.x = x;
@@ -239,22 +261,10 @@ double shaded_floor_value(const Vec3& y) {
 }
 
 double seen_past_the_table(const Vec3& x) {
-  constexpr int kGrid = 400;
-  const double cell = kRoom / kGrid;
-  double sum = 0.0;
-  for (int i = 0; i < kGrid; ++i) {
-    for (int j = 0; j < kGrid; ++j) {
-      const Vec3 y((i + 0.5) * cell, 0, (j + 0.5) * cell);
-      const Vec3 d = y - x;
-      const Vec3 crossing = x + ((x[1] - kTableHeight) / x[1]) * d;
-      if (crossing[0] > kTableLow && crossing[0] < kTableHigh && crossing[2] > kTableLow && crossing[2] < kTableHigh) {
-        continue;
-      }
-      const double r2 = d.sqrnorm();
-      sum += shaded_floor_value(y) * (x[1] * x[1]) / (M_PI * r2 * r2) * cell * cell;
-    }
-  }
-  return sum;
+  return floor_seen_from(x, shaded_floor_value, [&x](const Vec3& y) {
+    const Vec3 crossing = x + ((x[1] - kTableHeight) / x[1]) * (y - x);
+    return crossing[0] > kTableLow && crossing[0] < kTableHigh && crossing[2] > kTableLow && crossing[2] < kTableHigh;
+  });
 }
 
 TEST(ClusterTransport, WhatATableHidesIsLeftOutOfTheMeanTheCeilingSees) {
@@ -270,15 +280,10 @@ TEST(ClusterTransport, WhatATableHidesIsLeftOutOfTheMeanTheCeilingSees) {
   table.add_face(t00, t01, t11);
   table.add_face(t00, t11, t10);
   const RayScene rays({&floor_mesh, &table});
-  std::vector<double> value, openness(triangles.size(), 1.0);
-  double mean = 0.0;
-  for (const auto& t : triangles) {
-    value.push_back(shaded_floor_value((t[0] + t[1] + t[2]) / 3.0));
-    mean += value.back() / static_cast<double>(triangles.size());
-  }
-  const ShooterShape shape{value, openness, mean};
-  const std::vector<std::vector<Vec3>> polygons{
-      {Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
+  const TriangleValues values(triangles, shaded_floor_value);
+  const ShooterShape shape = values.shape();
+  const double mean = values.mean;
+  const auto polygons = whole_floor();
   for (const Vec3& x : {Vec3(2.0, 2.7, 2.6), Vec3(2.9, 2.7, 2.2), Vec3(1.2, 2.0, 1.0)}) {
     ReceiverPoint receiver;
     receiver.x = x;

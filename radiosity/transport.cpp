@@ -302,8 +302,10 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
   // Shadow rays go to triangles drawn in proportion to their share of the
   // form factor (systematic sampling), so hidden or back-facing parts of a
   // large shooter do not dilute the parts that carry the energy.
+  // Which rays arrived matters only to the shape factor.
   std::vector<RayOutcome> outcomes;
-  const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count, &outcomes);
+  const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count,
+                                          shape != nullptr ? &outcomes : nullptr);
   out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, cumulative, shape, outcomes));
   return out;
 }

@@ -1,17 +1,21 @@
 #!/usr/bin/env python3
 """Compares a solved mesh with its vertex reference region by region, by area.
 
-    tools/mesh-regions.py D/mesh.ply D/ref.ply --box NAME=x0,x1,y0,y1,z0,z1 ...
+    tools/mesh-regions.py D/mesh.ply REFERENCE --box NAME=x0,x1,y0,y1,z0,z1 ...
                           [--exclude x0,x1,y0,y1,z0,z1 ...]
+    tools/mesh-regions.py D/mesh.ply REFERENCE --obj SCENE.obj
 
-D/mesh.ply is what `lhr solve` exported, D/ref.ply what `lhr reference
---at-vertices D/mesh.ply` wrote for it (same vertices and faces). Every
-triangle whose centroid lies in a box (and in no --exclude box) counts with
-its area times the mean of its corners' linear luminance, in both files.
-Per box and per orientation of the triangle (facing up, down, or sideways)
-the script prints solve / reference: the product's error where the camera
-does not look, as the pixel norm of `lhr compare` cannot show it
-(docs/accuracy.md, "What a table hides"). Standard library only.
+D/mesh.ply is what `lhr solve` exported. REFERENCE is what `lhr reference
+--at-vertices D/mesh.ply` wrote for it (same vertices and faces), or a
+number: the radiance every vertex should have (2 in a furnace of ρ 0.5 and
+Le 1). Every triangle whose centroid lies in a box (and in no --exclude box)
+counts with its area times the mean of its corners' linear luminance, in
+both. Per box and per orientation of the triangle (facing up, down, or
+sideways) the script prints solve / reference: the product's error where the
+camera does not look, as the pixel norm of `lhr compare` cannot show it
+(docs/accuracy.md, "What a table hides"). With --obj, the regions are the
+OBJ file's groups instead, each side of a group apart (a triangle belongs to
+the polygon it lies in), lowest ratio first. Standard library only.
 """
 import argparse
 import math
@@ -76,22 +80,86 @@ def inside(box, p):
     return all(box[2 * k] <= p[k] <= box[2 * k + 1] for k in range(3))
 
 
+def obj_polygons(path):
+    """(group and outward normal, points, unit normal, plane offset) of every face of an OBJ file."""
+    points, polygons, group = [], [], 'default'
+    with open(path) as f:
+        for line in f:
+            words = line.split()
+            if not words:
+                continue
+            if words[0] == 'v':
+                points.append(tuple(float(x) for x in words[1:4]))
+            elif words[0] in ('g', 'o'):
+                group = ' '.join(words[1:]) or 'default'
+            elif words[0] == 'f':
+                ids = [int(w.split('/')[0]) for w in words[1:]]
+                poly = [points[i - 1] if i > 0 else points[i] for i in ids]
+                n = [0.0, 0.0, 0.0]
+                for k in range(1, len(poly) - 1):
+                    c = cross(sub(poly[k], poly[0]), sub(poly[k + 1], poly[0]))
+                    n = [n[j] + c[j] for j in range(3)]
+                length = math.sqrt(dot(n, n))
+                if length == 0:
+                    continue
+                n = [x / length for x in n]
+                side = ','.join(str(round(x)) for x in n) if max(abs(x) for x in n) > 0.999 else 'oblique'
+                polygons.append((f'{group} {side}', poly, n, dot(n, poly[0])))
+    return polygons
+
+
+def sub(a, b):
+    return [a[j] - b[j] for j in range(3)]
+
+
+def dot(a, b):
+    return sum(a[j] * b[j] for j in range(3))
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def in_polygon(p, poly, n):
+    """Whether p, in the polygon's plane, lies in the (convex or fanned) polygon."""
+    axis = max(range(3), key=lambda j: abs(n[j]))
+    u, v = [j for j in range(3) if j != axis]
+
+    def side(a, b):
+        return (a[u] - p[u]) * (b[v] - p[v]) - (b[u] - p[u]) * (a[v] - p[v])
+
+    for k in range(1, len(poly) - 1):
+        s = [side(poly[0], poly[k]), side(poly[k], poly[k + 1]), side(poly[k + 1], poly[0])]
+        if all(x >= -1e-12 for x in s) or all(x <= 1e-12 for x in s):
+            return True
+    return False
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('mesh')
     parser.add_argument('reference')
-    parser.add_argument('--box', action='append', default=[], metavar='NAME=x0,x1,y0,y1,z0,z1', required=True)
+    parser.add_argument('--box', action='append', default=[], metavar='NAME=x0,x1,y0,y1,z0,z1')
     parser.add_argument('--exclude', action='append', default=[], metavar='x0,x1,y0,y1,z0,z1')
+    parser.add_argument('--obj', metavar='SCENE.obj', help='regions: the groups of this OBJ file')
     args = parser.parse_args()
+    if not args.box and not args.obj:
+        sys.exit('give regions: --box NAME=x0,x1,y0,y1,z0,z1 ... or --obj SCENE.obj')
+    polygons = obj_polygons(args.obj) if args.obj else []
     boxes = []
     for b in args.box:
         name, _, coords = b.partition('=')
         boxes.append((name, parse_box(coords)))
     excluded = [parse_box(e) for e in args.exclude]
     mesh_vertices, faces = read_ply(args.mesh)
-    ref_vertices, ref_faces = read_ply(args.reference)
-    if len(mesh_vertices) != len(ref_vertices) or faces != ref_faces:
-        sys.exit(f'{args.reference}: not the vertex reference of {args.mesh} (different vertices or faces)')
+    try:
+        expected = float(args.reference)
+        ref_luminance = [expected] * len(mesh_vertices)
+    except ValueError:
+        ref_vertices, ref_faces = read_ply(args.reference)
+        if len(mesh_vertices) != len(ref_vertices) or faces != ref_faces:
+            sys.exit(f'{args.reference}: not the vertex reference of {args.mesh} (different vertices or faces)')
+        ref_luminance = [luminance(v) for v in ref_vertices]
     sums = {}
     for face in faces:
         for k in range(1, len(face) - 1):
@@ -107,17 +175,31 @@ def main():
             if any(inside(e, centroid) for e in excluded):
                 continue
             facing = 'up' if n[1] / double_area > 0.9 else 'down' if n[1] / double_area < -0.9 else 'side'
-            for name, box in boxes:
-                if inside(box, centroid):
-                    s = sums.setdefault((name, facing), [0.0, 0.0, 0.0])
-                    s[0] += double_area * sum(luminance(mesh_vertices[i]) for i in corners)
-                    s[1] += double_area * sum(luminance(ref_vertices[i]) for i in corners)
-                    s[2] += 0.5 * double_area
-                    break
-    print(f'{"region":<16} {"facing":<6} {"area":>9} {"solve/reference":>16}')
-    for (name, facing), (solved, reference, area) in sorted(sums.items()):
+            region = None
+            if polygons:
+                unit = [c / double_area for c in n]
+                for name, poly, normal, offset in polygons:
+                    if dot(unit, normal) > 0.999 and abs(dot(normal, centroid) - offset) < 1e-3 and \
+                            in_polygon(centroid, poly, normal):
+                        region = (name, '')
+                        break
+                region = region or ('(no group)', facing)
+            else:
+                region = next(((name, facing) for name, box in boxes if inside(box, centroid)), None)
+            if region is None:
+                continue
+            s = sums.setdefault(region, [0.0, 0.0, 0.0])
+            s[0] += double_area * sum(luminance(mesh_vertices[i]) for i in corners)
+            s[1] += double_area * sum(ref_luminance[i] for i in corners)
+            s[2] += 0.5 * double_area
+    rows = sorted(sums.items())
+    if polygons:
+        rows.sort(key=lambda row: row[1][0] / row[1][1] if row[1][1] > 0 else math.inf)
+    width = max([16] + [len(name) for name, _ in sums])
+    print(f'{"region":<{width}} {"facing":<6} {"area":>9} {"solve/reference":>16}')
+    for (name, facing), (solved, reference, area) in rows:
         ratio = f'{solved / reference:.4f}' if reference > 0 else 'n/a'
-        print(f'{name:<16} {facing:<6} {area:>9.3f} {ratio:>16}')
+        print(f'{name:<{width}} {facing:<6} {area:>9.3f} {ratio:>16}')
 
 
 if __name__ == '__main__':

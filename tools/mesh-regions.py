@@ -15,7 +15,10 @@ sideways) the script prints solve / reference: the product's error where the
 camera does not look, as the pixel norm of `lhr compare` cannot show it
 (docs/accuracy.md, "What a table hides"). With --obj, the regions are the
 OBJ file's groups instead, each side of a group apart (a triangle belongs to
-the polygon it lies in), lowest ratio first. Standard library only.
+the polygon it lies in), lowest ratio first. On regions far darker than
+the scene's mean (the inside of a closed shelf) the ratio is mostly the
+reference's noise: look at its per-vertex standard error (`lhr compare`)
+before reading one. Standard library only.
 """
 import argparse
 import math

@@ -164,9 +164,32 @@ void LinearSolver::sync_vertices(int s) {
       constexpr double kClearlyMoreOpen = 0.125;
       const double here = enclosed(v, d);
       if (here > 0.0) {
-        const double there = may_straddle(v) ? enclosed(v, -d) : 1.0;
-        if (there < here - kClearlyMoreOpen) d = -d;
-        st.hidden[v] = std::min(here, there) >= 0.5;
+        // An initial vertex inside the surface may be where contact lines
+        // meet (an apron's and a leg's footprints on a table top): the open
+        // side can lie off the line through it, so every root around it is
+        // a candidate, as every face is for the vertex reference.
+        std::vector<Vec3> sides{-d};
+        std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
+        if (initial_ancestors(st.parents, v, ancestors) == 1) {
+          for (const auto f : roots.vf_range(OpenMesh::VertexHandle(ancestors[0]))) {
+            Vec3 e = model_.centroid(s, static_cast<NodeId>(f.idx())) - h.point(v);
+            if (e.norm() > 0 && (e / e.norm() - d).norm() > 1e-9) sides.push_back(e / e.norm());
+          }
+        }
+        double best = here, lowest = here;
+        if (may_straddle(v)) {
+          for (const Vec3& e : sides) {
+            const double there = enclosed(v, e);
+            lowest = std::min(lowest, there);
+            if (there < best - kClearlyMoreOpen) {
+              best = there;
+              d = e;
+            }
+          }
+        } else {
+          lowest = 1.0;
+        }
+        st.hidden[v] = std::min(here, lowest) >= 0.5;
       }
     }
     st.approach[v] = d;

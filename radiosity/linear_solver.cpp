@@ -168,16 +168,16 @@ void LinearSolver::sync_vertices(int s) {
         // meet (an apron's and a leg's footprints on a table top): the open
         // side can lie off the line through it, so every root around it is
         // a candidate, as every face is for the vertex reference.
-        std::vector<Vec3> sides{-d};
-        std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
-        if (initial_ancestors(st.parents, v, ancestors) == 1) {
-          for (const auto f : roots.vf_range(OpenMesh::VertexHandle(ancestors[0]))) {
-            Vec3 e = model_.centroid(s, static_cast<NodeId>(f.idx())) - h.point(v);
-            if (e.norm() > 0 && (e / e.norm() - d).norm() > 1e-9) sides.push_back(e / e.norm());
-          }
-        }
         double best = here, lowest = here;
         if (may_straddle(v)) {
+          std::vector<Vec3> sides{-d};
+          std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
+          if (initial_ancestors(st.parents, v, ancestors) == 1) {
+            for (const auto f : roots.vf_range(OpenMesh::VertexHandle(ancestors[0]))) {
+              const Vec3 e = model_.centroid(s, static_cast<NodeId>(f.idx())) - h.point(v);
+              if (e.norm() > 0 && (e / e.norm() - d).norm() > 1e-9) sides.push_back(e / e.norm());
+            }
+          }
           for (const Vec3& e : sides) {
             const double there = enclosed(v, e);
             lowest = std::min(lowest, there);

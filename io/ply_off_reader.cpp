@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -201,7 +202,7 @@ std::optional<double> ascii_value(std::string_view token, const PlyType& type) {
 // line numbers, because OpenMesh's stream reads turn "nan" or a missing
 // value into silent zeros.
 void check_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply,
-                     const Declared& declared, FaceIndices faces) {
+                     const Declared& declared, FaceIndices faces, std::vector<Vec3>& points) {
   const int header_lines = static_cast<int>(std::count(bytes.begin(), bytes.begin() + ply.end, '\n')) + 1;
   const std::string_view text = std::string_view(bytes).substr(std::min(ply.body, bytes.size()));
   text::require_text(path, text);
@@ -218,6 +219,7 @@ void check_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHe
       const std::string where = e.name + " " + std::to_string(i) + ": ";
       std::size_t t = 0;
       std::optional<std::vector<long long>> indices;
+      Vec3 point(0, 0, 0);
       for (const PlyProperty& prop : e.properties) {
         if (t >= line.tokens.size()) throw InputError(path, line.number, where + "missing value for " + prop.name);
         if (prop.is_list) {
@@ -251,7 +253,11 @@ void check_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHe
             !std::isfinite(*v)) {
           throw InputError(path, line.number, "vertex " + std::to_string(i) + ": non-finite coordinate " + show(tok));
         }
+        if (e.name == "vertex" && prop.name.size() == 1 && prop.name[0] >= 'x' && prop.name[0] <= 'z') {
+          point[prop.name[0] - 'x'] = *v;
+        }
       }
+      if (e.name == "vertex") points.push_back(point);
       // OpenMesh reads ASCII PLY as one stream of values, so an extra value
       // would shift every later element.
       if (t != line.tokens.size()) {
@@ -277,7 +283,8 @@ void check_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHe
 // Binary PLY body: walked element by element so that a count or list
 // length the data cannot hold stops here, not in a reader that would loop
 // on it and allocate for it.
-void check_binary_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply, FaceIndices faces) {
+void check_binary_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply, FaceIndices faces,
+                      std::vector<Vec3>& points) {
   const bool big_endian = ply.format == "binary_big_endian";
   std::size_t at = ply.body;
   const auto read_integer = [&](const PlyType& type) {
@@ -292,9 +299,24 @@ void check_binary_ply(const fs::path& path, const std::string& bytes, const PlyH
     }
     return static_cast<long long>(u);
   };
+  // A coordinate as stored: a float widened exactly, a double kept whole.
+  const auto read_coordinate = [&](const PlyType& type) {
+    if (type.integer) return static_cast<double>(read_integer(type));
+    const std::uint64_t bits = static_cast<std::uint64_t>(read_integer(PlyType{type.size, true, 0, 0}));
+    if (type.size == 4) {
+      const auto narrow = static_cast<std::uint32_t>(bits);
+      float f = 0;
+      std::memcpy(&f, &narrow, sizeof f);
+      return static_cast<double>(f);
+    }
+    double d = 0;
+    std::memcpy(&d, &bits, sizeof d);
+    return d;
+  };
   for (const PlyElement& e : ply.elements) {
     for (long long i = 0; i < e.count; ++i) {
       const std::string where = e.name + " " + std::to_string(i);
+      Vec3 point(0, 0, 0);
       for (const PlyProperty& prop : e.properties) {
         const std::size_t left = bytes.size() - at;
         const std::size_t head = prop.is_list ? prop.length.size : prop.value.size;
@@ -303,7 +325,11 @@ void check_binary_ply(const fs::path& path, const std::string& bytes, const PlyH
                                      " (truncated file?)");
         }
         if (!prop.is_list) {
-          at += head;
+          if (e.name == "vertex" && prop.name.size() == 1 && prop.name[0] >= 'x' && prop.name[0] <= 'z') {
+            point[prop.name[0] - 'x'] = read_coordinate(prop.value);
+          } else {
+            at += head;
+          }
           continue;
         }
         const long long n = read_integer(prop.length);
@@ -325,18 +351,21 @@ void check_binary_ply(const fs::path& path, const std::string& bytes, const PlyH
         }
         at += n * prop.value.size;
       }
+      if (e.name == "vertex") points.push_back(point);
     }
   }
 }
 
 // -------------------------------------------------------------------- OFF
 
-// Colours of an ASCII OFF, read here rather than by OpenMesh, whose reader
-// guesses the colour type from the first vertex alone and reads a float
-// COFF (components in [0, 1]) as black.
-struct OffColours {
-  std::vector<std::optional<Rgb>> vertices;
-  std::vector<std::optional<Rgb>> faces;
+// Coordinates and colours of an ASCII OFF, read here rather than by
+// OpenMesh, whose reader narrows coordinates to float, guesses the colour
+// type from the first vertex alone and reads a float COFF (components in
+// [0, 1]) as black.
+struct OffValues {
+  std::vector<Vec3> points;
+  std::vector<std::optional<Rgb>> vertices;  // colours
+  std::vector<std::optional<Rgb>> faces;     // colours
 };
 
 // The colour components of one vertex or face, still as text.
@@ -382,9 +411,9 @@ std::vector<std::optional<Rgb>> decode_colours(const fs::path& path, const std::
 // ASCII OFF, returned as plain OFF (coordinates and vertex indices only,
 // comments removed) for OpenMesh's reader, which does not understand
 // comments; normals, texture coordinates and colours are checked here and
-// the colours returned in colours.
+// the coordinates and colours returned in values.
 std::string check_ascii_off(const fs::path& path, const std::string& text, Declared& declared, FaceIndices faces,
-                            OffColours& colours) {
+                            OffValues& values) {
   text::require_text(path, text);
   const std::vector<Line> lines = text::tokenize(text, true);
   if (lines.empty()) throw InputError(path, "empty file");
@@ -431,7 +460,7 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
   for (long long i = 0; i < *nv; ++i) {
     const Line& line = lines[next++];
     const std::string what = "vertex " + std::to_string(i);
-    text::finite_xyz(path, line, 0, what);
+    values.points.push_back(text::finite_xyz(path, line, 0, what));
     const std::size_t n = line.tokens.size();
     const std::size_t colour = n >= fixed ? n - fixed : 0;
     // Without a C prefix, three or four extra values are still a colour:
@@ -495,8 +524,8 @@ std::string check_ascii_off(const fs::path& path, const std::string& text, Decla
     for (long long k = 1; k <= *n; ++k) clean << ' ' << line.tokens[k];
     clean << '\n';
   }
-  colours.vertices = decode_colours(path, vertex_colours, static_cast<std::size_t>(*nv), true);
-  colours.faces = decode_colours(path, face_colours, static_cast<std::size_t>(*nf), false);
+  values.vertices = decode_colours(path, vertex_colours, static_cast<std::size_t>(*nv), true);
+  values.faces = decode_colours(path, face_colours, static_cast<std::size_t>(*nf), false);
   return clean.str();
 }
 
@@ -586,21 +615,25 @@ void read_ply_off(const fs::path& path, PlainImporter& importer, FaceIndices fac
   try {
     if (ext == ".ply") {
       const PlyHeader ply = scan_ply(path, bytes, declared);
+      std::vector<Vec3> points;
       if (ply.format == "ascii") {
-        check_ascii_ply(path, bytes, ply, declared, faces);
+        check_ascii_ply(path, bytes, ply, declared, faces, points);
       } else {
-        check_binary_ply(path, bytes, ply, faces);
+        check_binary_ply(path, bytes, ply, faces, points);
       }
       const QuietOpenMesh quiet;
       std::istringstream in(bytes);
       ok = OpenMesh::IO::IOManager().read(in, "ply", importer, options);
+      // OpenMesh's PLY reader narrows every coordinate to float; the checks
+      // above read them as the file stores them (docs/scene-format.md).
+      if (ok && points.size() == importer.points.size()) importer.points = std::move(points);
     } else {
       const std::size_t newline = bytes.find('\n');
       const bool binary =
           newline != std::string::npos && bytes.substr(0, newline).find("BINARY") != std::string::npos;
-      std::optional<OffColours> colours;
+      std::optional<OffValues> values;
       const std::string data = binary ? check_binary_off(path, bytes, declared, faces)
-                                      : check_ascii_off(path, bytes, declared, faces, colours.emplace());
+                                      : check_ascii_off(path, bytes, declared, faces, values.emplace());
       // OpenMesh's OFF reader learns the header flags (colours, binary) only
       // when it opens a file by name; its stream entry point skips that step.
       const TempFile temp(data, ".off");
@@ -608,10 +641,11 @@ void read_ply_off(const fs::path& path, PlainImporter& importer, FaceIndices fac
         const QuietOpenMesh quiet;
         ok = OpenMesh::IO::IOManager().read(temp.path().string(), importer, options);
       }
-      if (ok && colours && importer.points.size() == colours->vertices.size() &&
-          importer.faces.size() == colours->faces.size()) {
-        importer.vertex_colours = std::move(colours->vertices);
-        importer.face_colours = std::move(colours->faces);
+      if (ok && values && importer.points.size() == values->vertices.size() &&
+          importer.faces.size() == values->faces.size()) {
+        importer.points = std::move(values->points);
+        importer.vertex_colours = std::move(values->vertices);
+        importer.face_colours = std::move(values->faces);
       }
     }
   } catch (const ImportAborted& abort) {

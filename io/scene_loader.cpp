@@ -1,7 +1,6 @@
 #include "io/scene_loader.hpp"
 
 #include <tiny_obj_loader.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -15,8 +14,10 @@
 #include <string>
 #include <string_view>
 
+#include "io/material_overrides.hpp"
 #include "io/openmesh_import.hpp"
 #include "io/ply_off_reader.hpp"
+#include "io/scene_file.hpp"
 #include "io/text_scan.hpp"
 #include "io/texture_colour.hpp"
 #include "mesh/surfaces.hpp"
@@ -513,160 +514,18 @@ PolygonSoup load_openmesh(const fs::path& path) {
   return soup;
 }
 
-// --------------------------------------------------------------- scene JSON
-
-using Json = nlohmann::json;
-
-class JsonReader {
- public:
-  explicit JsonReader(fs::path path) : path_(std::move(path)) {}
-
-  [[noreturn]] void fail(const std::string& problem) const { throw InputError(path_, problem); }
-
-  const Json& member(const Json& object, const std::string& key, const std::string& where) const {
-    if (!object.contains(key)) fail("missing key \"" + where + key + "\"");
-    return object.at(key);
-  }
-  double number(const Json& value, const std::string& name) const {
-    if (!value.is_number()) fail("\"" + name + "\" must be a number");
-    const double v = value.get<double>();
-    if (!std::isfinite(v)) fail("\"" + name + "\" must be finite");
-    return v;
-  }
-  Vec3 vec3(const Json& value, const std::string& name) const {
-    if (!value.is_array() || value.size() != 3) fail("\"" + name + "\" must be an array of three numbers");
-    Vec3 v;
-    for (int k = 0; k < 3; ++k) v[k] = number(value[k], name + "[" + std::to_string(k) + "]");
-    return v;
-  }
-  int positive_int(const Json& value, const std::string& name) const {
-    if (!value.is_number_integer() || value.get<long long>() <= 0 || value.get<long long>() > (1 << 16)) {
-      fail("\"" + name + "\" must be a positive integer (at most 65536)");
-    }
-    return value.get<int>();
-  }
-
- private:
-  fs::path path_;
-};
-
-Camera parse_camera(const JsonReader& r, const Json& c) {
-  if (!c.is_object()) r.fail("\"camera\" must be an object");
-  Camera camera;
-  camera.eye = r.vec3(r.member(c, "eye", "camera."), "camera.eye");
-  camera.target = r.vec3(r.member(c, "target", "camera."), "camera.target");
-  camera.up = r.vec3(r.member(c, "up", "camera."), "camera.up");
-  camera.fov_y_deg = r.number(r.member(c, "fov_y_deg", "camera."), "camera.fov_y_deg");
-  camera.width = r.positive_int(r.member(c, "width", "camera."), "camera.width");
-  camera.height = r.positive_int(r.member(c, "height", "camera."), "camera.height");
-  if (!(camera.fov_y_deg > 0.0 && camera.fov_y_deg < 180.0))
-    r.fail("\"camera.fov_y_deg\" must be in (0, 180) degrees");
-  const Vec3 view = camera.target - camera.eye;
-  if (view.norm() == 0.0) r.fail("camera eye and target are the same point");
-  if (OpenMesh::cross(view.normalized(), camera.up).norm() <= 1e-9 * camera.up.norm() ||
-      camera.up.norm() == 0.0) {
-    r.fail("\"camera.up\" must be non-zero and not parallel to the viewing direction");
-  }
-  return camera;
-}
-
-struct SceneFile {
-  fs::path mesh;
-  std::optional<Camera> camera;
-  SceneSettings settings;
-};
-
-SceneFile parse_scene_file(const fs::path& path) {
-  const std::string text = read_file(path);
-  Json root;
-  try {
-    root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
-    std::string what = e.what();
-    const std::size_t colon = what.find(": ");
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(path, line, "invalid JSON: " + one_line(what));
-  }
-  const JsonReader r(path);
-  if (!root.is_object()) r.fail("a scene file must be a JSON object");
-  SceneFile scene;
-  const Json& mesh = r.member(root, "mesh", "");
-  if (!mesh.is_string() || mesh.get<std::string>().empty()) r.fail("\"mesh\" must be a file name");
-  scene.mesh = path.parent_path() / mesh.get<std::string>();
-  if (root.contains("camera")) scene.camera = parse_camera(r, root.at("camera"));
-  if (root.contains("meshing")) {
-    const Json& m = root.at("meshing");
-    if (!m.is_object()) r.fail("\"meshing\" must be an object");
-    if (m.contains("max_edge")) {
-      const double h = r.number(m.at("max_edge"), "meshing.max_edge");
-      if (!(h > 0.0)) r.fail("\"meshing.max_edge\" must be positive");
-      scene.settings.max_edge = h;
-    }
-    if (m.contains("crease_angle_deg")) {
-      const double a = r.number(m.at("crease_angle_deg"), "meshing.crease_angle_deg");
-      if (!(a >= 0.0 && a <= 180.0)) r.fail("\"meshing.crease_angle_deg\" must be in [0, 180] degrees");
-      scene.settings.crease_angle_deg = a;
-    }
-  }
-  if (root.contains("tone_map")) {
-    const Json& t = root.at("tone_map");
-    if (!t.is_object()) r.fail("\"tone_map\" must be an object");
-    ToneMapSettings& tone = scene.settings.tone_map;
-    for (const auto& [key, value] : t.items()) {
-      const std::string name = "tone_map." + key;
-      if (key == "kind") {
-        if (!value.is_string() || (value != "tumblin-rushmeier" && value != "linear")) {
-          r.fail("\"" + name + "\" must be \"tumblin-rushmeier\" or \"linear\"");
-        }
-        tone.kind = value.get<std::string>();
-        continue;
-      }
-      const double v = r.number(value, name);
-      if (key == "world_adaptation" || key == "white") {
-        if (!(v >= 0.0)) r.fail("\"" + name + "\" must be 0 (automatic) or positive");
-        (key == "white" ? tone.white : tone.world_adaptation) = v;
-      } else if (key == "units_to_cd_m2" || key == "display_max_cd_m2" || key == "gamma") {
-        if (!(v > 0.0)) r.fail("\"" + name + "\" must be positive");
-        (key == "gamma" ? tone.gamma : key == "units_to_cd_m2" ? tone.units_to_cd_m2 : tone.display_max_cd_m2) = v;
-      } else if (key == "max_contrast") {
-        if (!(v > 1.0)) r.fail("\"" + name + "\" must be above 1");
-        tone.max_contrast = v;
-      } else {
-        r.fail("unknown key \"" + name + "\" (kind, world_adaptation, units_to_cd_m2, display_max_cd_m2, "
-               "max_contrast, gamma, white)");
-      }
-    }
-  }
-  const std::string mesh_ext = extension_of(scene.mesh);
-  if (mesh_ext != ".obj" && mesh_ext != ".ply" && mesh_ext != ".off") {
-    r.fail("\"mesh\" must name an .obj, .ply or .off file, not " + show(mesh.get<std::string>()));
-  }
-  std::error_code ec;
-  if (!fs::is_regular_file(scene.mesh, ec)) {
-    r.fail("mesh file " + show(mesh.get<std::string>()) + " not found (looked for " + scene.mesh.string() +
-           ")");
-  }
-  return scene;
-}
-
-}  // namespace
-
-PolygonSoup load_polygon_soup(const std::filesystem::path& path, std::vector<std::string>* warnings) {
-  std::vector<std::string> ignored;
-  std::vector<std::string>& notes = warnings ? *warnings : ignored;
+// The geometry of one file, as read; its reflectance-1 warning is left to
+// the caller, which may still override the materials.
+PolygonSoup read_geometry(const fs::path& path, std::vector<std::string>& warnings) {
   const std::string ext = extension_of(path);
-  PolygonSoup soup;
-  if (ext == ".obj") {
-    soup = load_obj(path, notes);
-  } else if (ext == ".ply" || ext == ".off") {
-    soup = load_openmesh(path);
-  } else {
-    throw InputError(path, "unsupported file type " + show(ext) + " (expected .obj, .ply or .off)");
-  }
-  // docs/design.md §3: reflectance 1 is allowed, but light between such surfaces
-  // never dies out, so a closed scene of them does not converge.
+  if (ext == ".obj") return load_obj(path, warnings);
+  if (ext == ".ply" || ext == ".off") return load_openmesh(path);
+  throw InputError(path, "unsupported file type " + show(ext) + " (expected .obj, .ply or .off)");
+}
+
+// docs/design.md §3: reflectance 1 is allowed, but light between such surfaces
+// never dies out, so a closed scene of them does not converge.
+void warn_of_reflectance_one(const fs::path& path, const PolygonSoup& soup, std::vector<std::string>& warnings) {
   std::string white;
   for (const Material& m : soup.materials) {
     if (std::max({m.reflectance[0], m.reflectance[1], m.reflectance[2]}) >= 1.0) {
@@ -674,10 +533,46 @@ PolygonSoup load_polygon_soup(const std::filesystem::path& path, std::vector<std
     }
   }
   if (!white.empty()) {
-    notes.push_back(path.string() + ": reflectance 1 (Kd = 1 or 8-bit 255) in material(s) " + white +
-                    ": they absorb nothing, so light bouncing between them never dies out and the solvers "
-                    "may stop at their iteration limit");
+    warnings.push_back(path.string() + ": reflectance 1 (Kd = 1, 8-bit 255 or an override) in material(s) " +
+                       white +
+                       ": they absorb nothing, so light bouncing between them never dies out and the solvers "
+                       "may stop at their iteration limit");
   }
+}
+
+// Adds one file's soup to a scene of several: its points and materials are
+// its own, and a group of a name already seen joins that group, as groups
+// of one name do within an OBJ.
+void append_soup(PolygonSoup& all, PolygonSoup part, int file, SoupOrigin& origin) {
+  const int point_offset = static_cast<int>(all.points.size());
+  const int material_offset = static_cast<int>(all.materials.size());
+  std::vector<int> group_index;
+  for (const std::string& g : part.groups) {
+    const auto it = std::find(all.groups.begin(), all.groups.end(), g);
+    group_index.push_back(static_cast<int>(it - all.groups.begin()));
+    if (it == all.groups.end()) all.groups.push_back(g);
+  }
+  all.points.insert(all.points.end(), part.points.begin(), part.points.end());
+  for (Material& m : part.materials) {
+    origin.material_names.push_back(m.name);
+    all.materials.push_back(std::move(m));
+  }
+  for (InputFace& face : part.faces) {
+    for (int& v : face.vertices) v += point_offset;
+    face.material += material_offset;
+    face.group = group_index.at(face.group);
+    all.faces.push_back(std::move(face));
+    origin.face_file.push_back(file);
+  }
+}
+
+}  // namespace
+
+PolygonSoup load_polygon_soup(const std::filesystem::path& path, std::vector<std::string>* warnings) {
+  std::vector<std::string> ignored;
+  std::vector<std::string>& notes = warnings ? *warnings : ignored;
+  PolygonSoup soup = read_geometry(path, notes);
+  warn_of_reflectance_one(path, soup, notes);
   return soup;
 }
 
@@ -690,15 +585,25 @@ LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& opti
   LoadResult result;
   Scene& scene = result.scene;
   scene.source = path.string();
-  fs::path geometry = path;
-  std::optional<Camera> camera;
+  SceneFile file;
   if (extension_of(path) == ".json") {
-    SceneFile file = parse_scene_file(path);
-    geometry = file.mesh;
-    camera = file.camera;
-    scene.settings = file.settings;
+    file = parse_scene_file(path);
+  } else {
+    file.meshes = {path};
+    file.mesh_entries = {path.filename().string()};
   }
-  PolygonSoup soup = load_polygon_soup(geometry, &result.warnings);
+  // Messages about the geometry name its file, or the scene file when the
+  // geometry is several files or its materials were overridden.
+  const fs::path geometry = file.meshes.size() == 1 && file.overrides.empty() ? file.meshes[0] : path;
+  PolygonSoup soup;
+  SoupOrigin origin;
+  origin.file_names = file.mesh_entries;
+  for (std::size_t k = 0; k < file.meshes.size(); ++k) {
+    append_soup(soup, read_geometry(file.meshes[k], result.warnings), static_cast<int>(k), origin);
+  }
+  apply_material_overrides(soup, origin, file.overrides, path);
+  warn_of_reflectance_one(geometry, soup, result.warnings);
+  scene.settings = file.settings;
   const double crease =
       options.crease_angle_deg.value_or(scene.settings.crease_angle_deg.value_or(kDefaultCreaseAngleDeg));
   SurfaceSplit split = split_into_surfaces(soup, crease);
@@ -720,7 +625,7 @@ LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& opti
          << scene.surfaces[under].name << "; it is placed " << split.lift_distance << " in front of it";
     result.warnings.push_back(note.str());
   }
-  scene.camera = camera ? *camera : framing_camera(scene);
+  scene.camera = file.camera ? *file.camera : framing_camera(scene);
   return result;
 }
 

@@ -361,6 +361,50 @@ TEST(SceneLoader, BinaryPlyLoads) {
   EXPECT_EQ(scene.materials.at(scene.surfaces[0].material).reflectance, Rgb(0.5, 0.5, 0.5));
 }
 
+// Coordinates survive as stored: a double is not narrowed to float on the
+// way (OpenMesh's own reader does that), and a float is widened exactly.
+TEST(SceneLoader, PlyAndOffCoordinatesAreReadAsTheFileStoresThem) {
+  const std::vector<Vec3> expected{{0.1, 0.2, 0.3}, {1.1, 0.2, 0.3}, {0.1, 1.7, 0.3}};
+  const auto check = [&](const PolygonSoup& soup, bool as_float, const std::string& what) {
+    ASSERT_EQ(soup.points.size(), 3u) << what;
+    for (std::size_t v = 0; v < 3; ++v) {
+      for (int k = 0; k < 3; ++k) {
+        const double want = as_float ? static_cast<double>(static_cast<float>(expected[v][k])) : expected[v][k];
+        EXPECT_EQ(soup.points[v][k], want) << what << " vertex " << v;
+      }
+    }
+  };
+  const std::string ascii_header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  check(load_polygon_soup(write("coords_ascii_ply", "t.ply",
+                                ascii_header + "0.1 0.2 0.3\n1.1 0.2 0.3\n0.1 1.7 0.3\n3 0 1 2\n")),
+        false, "ASCII PLY");
+  check(load_polygon_soup(write("coords_off", "t.off", "OFF\n3 1 0\n0.1 0.2 0.3\n1.1 0.2 0.3\n0.1 1.7 0.3\n3 0 1 2\n")),
+        false, "ASCII OFF");
+  for (const bool doubles : {true, false}) {
+    const std::string type = doubles ? "double" : "float";
+    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty " + type +
+                      " x\nproperty " + type + " y\nproperty " + type +
+                      " z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& p : expected) {
+      for (int k = 0; k < 3; ++k) {
+        if (doubles) {
+          const double d = p[k];
+          ply.append(reinterpret_cast<const char*>(&d), sizeof d);
+        } else {
+          const float f = static_cast<float>(p[k]);
+          ply.append(reinterpret_cast<const char*>(&f), sizeof f);
+        }
+      }
+    }
+    ply.push_back(3);
+    const std::int32_t indices[3] = {0, 1, 2};
+    ply.append(reinterpret_cast<const char*>(indices), sizeof indices);
+    check(load_polygon_soup(write("coords_binary_" + type, "t.ply", ply)), !doubles, "binary PLY of " + type);
+  }
+}
+
 TEST(SceneLoader, BinaryOffLoads) {
   std::string off = "OFF BINARY\n";
   const std::int32_t counts[3] = {4, 1, 0};

@@ -17,8 +17,10 @@ namespace lhr {
 
 namespace {
 
-// Faces whose area is at most this fraction of the squared bounding-box
-// diagonal carry no energy and have no usable normal (docs/design.md §3).
+// Faces whose area is at most this fraction of their longest edge squared
+// (a height under 2e-12 of their length) have no usable normal
+// (docs/design.md §3). Judged per face: a 1 cm box in a 10 km scene is
+// small, not degenerate.
 constexpr double kZeroAreaRelative = 1e-12;
 // A surface is planar when every point lies within this fraction of its
 // extent from the best-fit plane; planar surfaces get the 2D mesher (docs/design.md §4).
@@ -124,17 +126,6 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
   const std::size_t n_faces = soup.faces.size();
 
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  Vec3 lo(kInf, kInf, kInf);
-  Vec3 hi(-kInf, -kInf, -kInf);
-  for (const InputFace& f : soup.faces) {
-    for (int v : f.vertices) {
-      lo.minimize(soup.points[v]);
-      hi.maximize(soup.points[v]);
-    }
-  }
-  const double diagonal = n_faces > 0 ? (hi - lo).norm() : 0.0;
-  const double min_area = kZeroAreaRelative * diagonal * diagonal;
-
   const std::vector<int> weld = weld_positions(soup.points);
 
   // Welded polygons, with vertices that collapsed onto their neighbour removed.
@@ -152,7 +143,11 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
     if (out.size() < 3) continue;
     const Vec3 n = newell_vector(soup.points, out);
     area[f] = 0.5 * n.norm();
-    if (!(area[f] > min_area)) continue;
+    double longest = 0.0;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      longest = std::max(longest, (soup.points[out[k]] - soup.points[out[(k + 1) % out.size()]]).sqrnorm());
+    }
+    if (!(area[f] > kZeroAreaRelative * longest)) continue;
     normal[f] = n / n.norm();
     kept[f] = true;
   }

@@ -248,3 +248,63 @@ TEST(EdgeCases, NonManifoldEdgeIsCutAndReported) {
 
 }  // namespace
 }  // namespace lhr
+
+namespace lhr {
+namespace {
+
+// Mixed scales: a 1 cm box resting on a 10 km floor under a 10 km light.
+// A face is degenerate by its own shape, not by the scene's size, so the box
+// is kept; its top sees only the light, so its radiance is ρ·Le·F exactly.
+TEST(EdgeCases, ACentimetreBoxOnATenKilometreFloorIsKeptAndLitAsItsFormFactorSays) {
+  constexpr double kRho = 0.5, kBox = 0.01, kFloor = 1e4, kHeight = 1e3;
+  PolygonSoup soup;
+  soup.materials = {test::grey_material("floor", kRho), test::grey_material("box", kRho),
+                    test::grey_material("light", 0.0, 1.0)};
+  soup.groups = {"floor", "box", "light"};
+  const double f = 0.5 * kFloor, b = 0.5 * kBox;
+  test::add_quad(soup, Vec3(-f, -f, 0), Vec3(f, -f, 0), Vec3(f, f, 0), Vec3(-f, f, 0), 0, 0);
+  const std::array<Vec3, 4> light{Vec3(-f, -f, kHeight), Vec3(-f, f, kHeight), Vec3(f, f, kHeight),
+                                  Vec3(f, -f, kHeight)};
+  test::add_quad(soup, light[0], light[1], light[2], light[3], 2, 2);
+  const Vec3 p000(-b, -b, 0), p100(b, -b, 0), p110(b, b, 0), p010(-b, b, 0);
+  const Vec3 p001(-b, -b, kBox), p101(b, -b, kBox), p111(b, b, kBox), p011(-b, b, kBox);
+  test::add_quad(soup, p001, p101, p111, p011, 1, 1);  // top, faces +z
+  test::add_quad(soup, p000, p100, p101, p001, 1, 1);  // faces −y
+  test::add_quad(soup, p100, p110, p111, p101, 1, 1);  // faces +x
+  test::add_quad(soup, p110, p010, p011, p111, 1, 1);  // faces +y
+  test::add_quad(soup, p010, p000, p001, p011, 1, 1);  // faces −x
+  const SurfaceSplit split = split_into_surfaces(soup, 30.0);
+  EXPECT_EQ(split.dropped_zero_area_faces, 0);
+  ASSERT_EQ(split.surfaces.size(), 7u);
+  Scene scene = test::scene_from_soup(soup, "mixed scales");
+
+  int top = -1;
+  for (int s = 0; s < static_cast<int>(scene.surfaces.size()); ++s) {
+    if (scene.surfaces[s].material == 1 && scene.surfaces[s].normal[2] > 0.5) top = s;
+  }
+  ASSERT_GE(top, 0);
+  MeshingOptions meshing;
+  meshing.max_edge = 0.1 * kFloor;
+  SceneModel model(scene, meshing);
+  LinearSolver solver(model, LinearOptions{});
+  solver.solve();
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    const std::vector<Rgb>& values = solver.vertex_radiance(s);
+    expect_finite_non_negative(values, scene.surfaces[s].name);
+    if (scene.surfaces[s].material == 2) continue;  // the light itself
+    // Nothing reflects more than ρ times the light.
+    for (const Rgb& v : values) EXPECT_LE(v[0], kRho * (1.0 + 1e-6)) << scene.surfaces[s].name;
+  }
+  const SurfaceHierarchy& h = model.hierarchy(top);
+  const std::vector<Rgb>& top_values = solver.vertex_radiance(top);
+  ASSERT_FALSE(top_values.empty());
+  for (std::size_t v = 0; v < top_values.size(); ++v) {
+    const Vec3 x = h.point(VertexId(static_cast<int>(v)));
+    const double exact = kRho * point_polygon_form_factor(x, Vec3(0, 0, 1), light);
+    EXPECT_NEAR(top_values[v][0], exact, 0.01 * exact) << "top vertex " << v;
+  }
+  expect_finite_non_negative(solve_classical(scene, 0.1 * kFloor), "classical");
+}
+
+}  // namespace
+}  // namespace lhr

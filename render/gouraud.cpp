@@ -27,14 +27,28 @@ PixelHits trace_pixels(const Camera& camera, const std::vector<const TriMesh*>& 
   // the thread count.
   tbb::parallel_for(0, camera.height, [&](int y) {
     for (int x = 0; x < camera.width; ++x) {
-      const auto hit = scene.intersect(rays.origin(), rays.direction(x, y));
+      const Vec3 direction = rays.direction(x, y);
+      const auto hit = scene.intersect(rays.origin(), direction);
       if (!hit) continue;
-      hits.pixels[static_cast<std::size_t>(y) * camera.width + x] = {hit->surface, hit->face,
-                                                                     static_cast<float>(hit->u),
-                                                                     static_cast<float>(hit->v)};
+      const TriMesh& mesh = *meshes[hit->surface];
+      Vec3 corner[3];
+      int k = 0;
+      for (const auto vh : mesh.fv_range(mesh.face_handle(hit->face))) corner[k++] = mesh.point(vh);
+      const Vec3 front = OpenMesh::cross(corner[1] - corner[0], corner[2] - corner[0]);
+      hits.pixels[static_cast<std::size_t>(y) * camera.width + x] = {
+          hit->surface, hit->face, static_cast<float>(hit->u), static_cast<float>(hit->v),
+          !(OpenMesh::dot(front, direction) < 0)};
     }
   });
   return hits;
+}
+
+std::vector<ViewSample> view_samples(const Camera& camera, const std::vector<const TriMesh*>& meshes) {
+  std::vector<ViewSample> view;
+  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
+    if (h.surface >= 0 && !h.back) view.push_back({h.surface, h.face, h.u, h.v});
+  }
+  return view;
 }
 
 Image shade_gouraud(const PixelHits& hits, const std::vector<const TriMesh*>& meshes,
@@ -43,7 +57,7 @@ Image shade_gouraud(const PixelHits& hits, const std::vector<const TriMesh*>& me
   Image image(hits.width, hits.height);
   tbb::parallel_for(std::size_t{0}, hits.pixels.size(), [&](std::size_t i) {
     const PixelHits::Hit& h = hits.pixels[i];
-    if (h.surface < 0) return;
+    if (h.surface < 0 || h.back) return;
     const TriMesh& mesh = *meshes[h.surface];
     const std::vector<Rgb>& vertex_values = *values[h.surface];
     int corner[3], k = 0;

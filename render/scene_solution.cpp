@@ -36,10 +36,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
   // Importance and the oracle's adaptation come from what the camera sees.
   std::vector<const TriMesh*> initial;
   for (int s = 0; s < model.num_surfaces(); ++s) initial.push_back(&model.hierarchy(s).mesh());
-  options.view.clear();
-  for (const PixelHits::Hit& h : trace_pixels(settings.camera, initial).pixels) {
-    if (h.surface >= 0) options.view.push_back({h.surface, h.face, h.u, h.v});
-  }
+  options.view = view_samples(settings.camera, initial);
   const ToneMapChoice tone = settings.tone;
   options.tone_map = [tone](double log_average, double brightest) {
     return make_tone_map(tone, log_average, brightest);

@@ -96,11 +96,7 @@ inline RawMesh raw_mesh(const TriMesh& mesh, const std::vector<Rgb>& values = {}
 inline std::vector<ViewSample> view_from(const SceneModel& model, const Camera& camera) {
   std::vector<const TriMesh*> meshes;
   for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
-  std::vector<ViewSample> view;
-  for (const PixelHits::Hit& h : trace_pixels(camera, meshes).pixels) {
-    if (h.surface >= 0) view.push_back({h.surface, h.face, h.u, h.v});
-  }
-  return view;
+  return view_samples(camera, meshes);
 }
 
 // What a camera at `eye` looking at `target` sees, width x height pixels.

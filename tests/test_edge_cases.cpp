@@ -10,6 +10,7 @@
 #include "radiosity/classical_solver.hpp"
 #include "radiosity/form_factor.hpp"
 #include "radiosity/linear_solver.hpp"
+#include "render/path_tracer.hpp"
 #include "render/scene_solution.hpp"
 #include "scene_fixtures.hpp"
 #include "test_support.hpp"
@@ -304,6 +305,51 @@ TEST(EdgeCases, ACentimetreBoxOnATenKilometreFloorIsKeptAndLitAsItsFormFactorSay
     EXPECT_NEAR(top_values[v][0], exact, 0.01 * exact) << "top vertex " << v;
   }
   expect_finite_non_negative(solve_classical(scene, 0.1 * kFloor), "classical");
+}
+
+}  // namespace
+}  // namespace lhr
+
+namespace lhr {
+namespace {
+
+// docs/design.md §3: only the front of a face reflects and emits. A camera
+// outside a box whose faces all look inward sees only backs: black in the
+// solution's view as in the path tracer's, and still pixels of the scene.
+TEST(EdgeCases, ACameraOutsideAClosedBoxSeesBlackBacksAsThePathTracerDoes) {
+  const Scene scene = test::closed_cube(test::grey_material("walls", 0.5), test::grey_material("top", 0.5, 1.0),
+                                        "box seen from outside");
+  Camera camera;
+  camera.eye = Vec3(0.5, -2.5, 1.8);
+  camera.target = Vec3(0.5, 0.5, 0.5);
+  camera.up = Vec3(0, 0, 1);
+  camera.width = camera.height = 48;
+  SolveSettings settings;
+  settings.camera = camera;
+  settings.meshing.max_edge = 0.5;
+  // Coarse: the view is on trial here, not the solution.
+  settings.classical.eps_bf = 0.05;
+  settings.linear.eps_link = 20;
+  settings.linear.eps_pixel = 1;
+  for (SolveMethod method : {SolveMethod::kLinear, SolveMethod::kClassical}) {
+    settings.method = method;
+    const SceneSolution solution = solve_scene(scene, settings);
+    const PathTracer tracer(scene);
+    PathTraceOptions options;
+    options.spp = 4;
+    const ReferenceImage reference = tracer.render(camera, options);
+    ASSERT_EQ(solution.view.hit_mask, reference.mask);
+    int seen = 0;
+    for (std::size_t i = 0; i < reference.mask.size(); ++i) {
+      if (!reference.mask[i]) continue;
+      ++seen;
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(reference.radiance.rgb[3 * i + c], 0.0f) << "pixel " << i;
+        ASSERT_EQ(solution.view.radiance_image.rgb[3 * i + c], 0.0f) << method_name(method) << ", pixel " << i;
+      }
+    }
+    EXPECT_GT(seen, 48 * 48 / 8) << "the box fills much of the view";
+  }
 }
 
 }  // namespace

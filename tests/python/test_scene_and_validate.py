@@ -25,7 +25,8 @@ def test_load_scene_cornell():
     assert scene.camera["eye"] == [278.0, 273.0, -800.0]
     assert (scene.camera["width"], scene.camera["height"]) == (512, 512)
     assert scene.source.endswith("cornell.scene.json")
-    assert isinstance(scene.warnings, list)
+    # The published box draws its light on the ceiling; loading moves it off.
+    assert any("lies on the plane of ceiling" in w for w in scene.warnings), scene.warnings
 
 
 def test_load_bare_obj_gets_a_framing_camera():

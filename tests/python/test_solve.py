@@ -78,6 +78,11 @@ def test_version_matches_the_command(quick_linear):
     assert quick_linear.stats["lhr_version"] == lhr.__version__
 
 
+def test_warnings_start_with_the_loaders(quick_linear):
+    loaded = lhr.load_scene(CORNELL).warnings
+    assert loaded and quick_linear.warnings[:len(loaded)] == loaded
+
+
 def test_budget_warning_names_the_keyword():
     r = lhr.solve(CORNELL, max_links=1, **QUICK_LINEAR)
     assert r.stats["link_budget_reached"] is True

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 #include <tbb/global_control.h>
@@ -137,17 +138,11 @@ int run_solve(const Args& args) {
   classical.max_links = linear.max_links = max_links;
   classical.max_bytes = linear.max_bytes = parse_byte_size(vm["max-memory"].as<std::string>(), "--max-memory");
   classical.visibility_samples = linear.visibility_samples = visibility_samples;
-  if (!(classical.eps_bf > 0)) throw po::error("--eps-bf must be positive");
-  if (!(linear.eps_pixel > 0) || !(linear.eps_link > 0)) throw po::error("--eps-pixel and --eps-link must be positive");
-  if (!(linear.vis_threshold > 0)) throw po::error("--vis-threshold must be positive");
-  if (!(linear.eps_vertex >= 0) || !std::isfinite(linear.eps_vertex)) {
-    throw po::error("--eps-vertex must be 0 (off) or positive");
+  try {
+    check_solver_options(settings, OptionStyle::kFlag);
+  } catch (const std::invalid_argument& e) {
+    throw po::error(e.what());
   }
-  if (!(linear.link_power >= 0)) throw po::error("--link-power must be zero or positive");
-  if (!(min_edge >= 0)) throw po::error("--min-edge must be zero or positive");
-  if (max_iterations < 1) throw po::error("--max-iterations must be at least 1");
-  if (!(tolerance > 0)) throw po::error("--tolerance must be positive");
-  if (visibility_samples < 1) throw po::error("--visibility-samples must be at least 1");
 
   // Options are checked before the scene is read: a bad flag is the one line
   // of output, not a scene's warnings and then the flag.
@@ -166,9 +161,9 @@ int run_solve(const Args& args) {
   prepare_output_directory(out_dir);
   const OutputDirectoryLock out_lock(out_dir);
 
-  bool any_emitter = false;
-  for (const Material& m : scene.materials) any_emitter |= m.is_emitter();
-  if (!any_emitter && !quiet) std::cerr << "lhr solve: warning: the scene has no emitter; the result is black\n";
+  if (!quiet) {
+    for (const std::string& w : scene_warnings(scene)) std::cerr << "lhr solve: warning: " << w << "\n";
+  }
 
   // The tone map shapes the linear method's receiver oracle (paper §4.1) as
   // well as the images and vertex colours.
@@ -192,25 +187,14 @@ int run_solve(const Args& args) {
     return kExitInterrupted;
   }
   if (progress && !verbose) std::cerr << "\n";
-  if (solution.link_budget_reached && !quiet) {
-    std::cerr << "lhr solve: warning: --max-links reached; refinement stopped early\n";
-  }
-  if (solution.memory_budget_reached && !quiet) {
-    std::cerr << "lhr solve: warning: --max-memory reached; refinement stopped early\n";
+  if (!quiet) {
+    for (const std::string& w : solution_warnings(settings, solution, OptionStyle::kFlag)) {
+      std::cerr << "lhr solve: warning: " << w << "\n";
+    }
   }
 
   const auto t_output = Clock::now();
-  // An iteration limit, not convergence, ends a solve whose light does not
-  // die out (Kd = 1 in a closed scene, docs/robustness.md).
-  const double final_change = solution.stats.value("final_change", 0.0);
-  if (solution.stats.value("iterations", 0) >= max_iterations && !(final_change < tolerance) && !quiet) {
-    std::cerr << "lhr solve: warning: not converged after " << max_iterations
-              << " iterations (largest change " << final_change << ", tolerance " << tolerance
-              << "); the result is the last iteration's\n";
-  }
-
   SolutionView& view = solution.view;
-  view.export_mesh.colour_meaning = "display colour, tone-mapped " + view.tone_map->describe() + ", not linear";
   nlohmann::json doc = solution.stats;
   doc["lhr_version"] = LHR_VERSION;
   // Every file is complete on disk before any replaces an earlier one; an

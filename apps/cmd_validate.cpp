@@ -11,10 +11,7 @@ namespace lhr::app {
 int run_validate(const Args& args) {
   po::options_description visible("options");
   visible.add_options()("help,h", "show this help")
-      // PLY/OFF store float coordinates (relative rounding ~6e-8), so a
-      // T-vertex read back sits that far off its edge; the in-memory default
-      // of ConformingCheckOptions would miss it.
-      ("tolerance", double_value(1e-6),
+      ("tolerance", double_value(kStoredMeshTolerance),
        "distance, relative to the bounding-box diagonal, under which a vertex counts as lying on an edge "
        "and a face as flat (files hold float coordinates, so keep it well above 1e-7)")
       ("quiet,q", "print nothing when every check holds");

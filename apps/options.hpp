@@ -7,11 +7,13 @@
 #include <cstddef>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "apps/commands.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/initial_mesh.hpp"
+#include "render/scene_solution.hpp"
 
 namespace lhr::app {
 
@@ -78,11 +80,10 @@ inline MeshingOptions meshing_options_from(const po::variables_map& vm, const Sc
   meshing.max_edge = vm.count("max-edge") ? vm["max-edge"].as<double>()
                                           : scene.settings.max_edge.value_or(default_max_edge(scene));
   meshing.min_angle_deg = vm["min-angle"].as<double>();
-  if (!(meshing.max_edge > 0.0) || !std::isfinite(meshing.max_edge)) {
-    throw po::error("--max-edge must be a positive number");
-  }
-  if (!(meshing.min_angle_deg > 0.0 && meshing.min_angle_deg <= 30.0)) {
-    throw po::error("--min-angle must be in (0, 30] degrees");
+  try {
+    check_meshing_options(meshing, OptionStyle::kFlag);
+  } catch (const std::invalid_argument& e) {
+    throw po::error(e.what());
   }
   return meshing;
 }

@@ -4,7 +4,7 @@
 // the command line, else the scene file's "tone_map" block, else the flag's
 // default (docs/design.md §3, §4 "Tone map M").
 
-#include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "apps/options.hpp"
@@ -30,32 +30,28 @@ inline void add_tone_map_options(po::options_description& options) {
       ("gamma", double_value(2.2), "display gamma");
 }
 
-// file_tone: the scene file's block, or nullptr without a scene.
+// file_tone: the scene file's block, or nullptr without a scene. The flags'
+// defaults are ToneMapChoice's, so a flag left at its default keeps the file's value.
 inline ToneMapChoice tone_choice_from(const po::variables_map& vm, const ToneMapSettings* file_tone) {
-  const ToneMapSettings none;
-  const ToneMapSettings& file = file_tone ? *file_tone : none;
-  const auto pick = [&](const char* flag, const std::optional<double>& from_file) {
-    return (!vm[flag].defaulted() || !from_file) ? vm[flag].as<double>() : *from_file;
-  };
-  const std::string name =
-      (!vm["tone-map"].defaulted() || !file.kind) ? vm["tone-map"].as<std::string>() : *file.kind;
-  if (name != "tumblin-rushmeier" && name != "linear") {
-    throw po::error("--tone-map must be tumblin-rushmeier or linear");
+  try {
+    ToneMapChoice tone = file_tone ? tone_choice_from_scene(*file_tone, OptionStyle::kFlag) : ToneMapChoice{};
+    const auto given = [&](const char* flag, double& field) {
+      if (!vm[flag].defaulted()) field = vm[flag].as<double>();
+    };
+    if (!vm["tone-map"].defaulted()) {
+      tone.kind = tone_map_kind(vm["tone-map"].as<std::string>(), OptionStyle::kFlag);
+    }
+    given("adaptation", tone.world_adaptation);
+    given("units-to-cd", tone.units_to_cd_m2);
+    given("white", tone.linear_white);
+    given("display-max", tone.display_max_cd_m2);
+    given("max-contrast", tone.max_contrast);
+    given("gamma", tone.gamma);
+    check_tone_choice(tone, OptionStyle::kFlag);
+    return tone;
+  } catch (const std::invalid_argument& e) {
+    throw po::error(e.what());  // a usage error, like any bad flag
   }
-  ToneMapChoice tone;
-  tone.kind = name == "linear" ? ToneMapChoice::Kind::kLinear : ToneMapChoice::Kind::kTumblinRushmeier;
-  tone.world_adaptation = pick("adaptation", file.world_adaptation);
-  tone.units_to_cd_m2 = pick("units-to-cd", file.units_to_cd_m2);
-  tone.linear_white = pick("white", file.white);
-  tone.display_max_cd_m2 = pick("display-max", file.display_max_cd_m2);
-  tone.max_contrast = pick("max-contrast", file.max_contrast);
-  tone.gamma = pick("gamma", file.gamma);
-  if (!(tone.units_to_cd_m2 > 0) || !(tone.display_max_cd_m2 > 0) || !(tone.max_contrast > 1) ||
-      !(tone.gamma > 0) || !(tone.world_adaptation >= 0) || !(tone.linear_white >= 0)) {
-    throw po::error("tone map: --units-to-cd, --display-max and --gamma must be positive, --max-contrast above 1, "
-                    "--adaptation and --white zero or positive");
-  }
-  return tone;
 }
 
 }  // namespace lhr::app

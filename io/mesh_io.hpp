@@ -38,6 +38,11 @@ void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh);
 // The same, staged in a set of outputs published together.
 void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const ExportMesh& mesh);
 
+// The check_conforming_mesh tolerance for a mesh read from a file: PLY/OFF
+// store float coordinates (relative rounding ~6e-8), so a T-vertex read back
+// sits that far off its edge, and the in-memory default would miss it.
+constexpr double kStoredMeshTolerance = 1e-6;
+
 // Reads a PLY/OFF exactly as stored (no vertex merging, no face repair),
 // through OpenMesh's readers. Throws InputError.
 RawMesh read_raw_mesh(const std::filesystem::path& path);

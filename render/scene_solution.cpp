@@ -1,6 +1,9 @@
 #include "render/scene_solution.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 #include "radiosity/scene_model.hpp"
 #include "render/gouraud.hpp"
@@ -139,6 +142,75 @@ MethodRun run_classical(SceneModel& model, const SolveSettings& settings, std::v
 
 const char* method_name(SolveMethod method) { return method == SolveMethod::kLinear ? "linear" : "classical"; }
 
+void check_solver_options(const SolveSettings& settings, OptionStyle style) {
+  const auto fail = [style](const char* keyword, const std::string& requirement) {
+    throw std::invalid_argument(option_name(keyword, style) + " must be " + requirement);
+  };
+  const LinearOptions& linear = settings.linear;
+  const ClassicalOptions& classical = settings.classical;
+  if (!(classical.eps_bf > 0)) fail("eps_bf", "positive");
+  if (!(linear.eps_pixel > 0) || !(linear.eps_link > 0)) {
+    throw std::invalid_argument(option_name("eps_pixel", style) + " and " + option_name("eps_link", style) +
+                                " must be positive");
+  }
+  if (!(linear.vis_threshold > 0)) fail("vis_threshold", "positive");
+  if (!(linear.eps_vertex >= 0) || !std::isfinite(linear.eps_vertex)) fail("eps_vertex", "0 (off) or positive");
+  if (!(linear.link_power >= 0)) fail("link_power", "zero or positive");
+  // Both methods' options, whichever runs: a bad value is a mistake either way.
+  for (const double min_edge : {linear.min_edge, classical.min_edge}) {
+    if (!(min_edge >= 0)) fail("min_edge", "zero or positive");
+  }
+  for (const int max_iterations : {linear.max_iterations, classical.max_iterations}) {
+    if (max_iterations < 1) fail("max_iterations", "at least 1");
+  }
+  for (const double tolerance : {linear.tolerance, classical.tolerance}) {
+    if (!(tolerance > 0)) fail("tolerance", "positive");
+  }
+  for (const int samples : {linear.visibility_samples, classical.visibility_samples}) {
+    if (samples < 1) fail("visibility_samples", "at least 1");
+  }
+}
+
+void check_meshing_options(const MeshingOptions& meshing, OptionStyle style) {
+  if (!(meshing.max_edge > 0.0) || !std::isfinite(meshing.max_edge)) {
+    throw std::invalid_argument(option_name("max_edge", style) + " must be a positive number");
+  }
+  if (!(meshing.min_angle_deg > 0.0 && meshing.min_angle_deg <= 30.0)) {
+    throw std::invalid_argument(option_name("min_angle", style) + " must be in (0, 30] degrees");
+  }
+}
+
+std::vector<std::string> scene_warnings(const Scene& scene) {
+  for (const Material& m : scene.materials) {
+    if (m.is_emitter()) return {};
+  }
+  return {"the scene has no emitter; the result is black"};
+}
+
+std::vector<std::string> solution_warnings(const SolveSettings& settings, const SceneSolution& solution,
+                                           OptionStyle style) {
+  std::vector<std::string> warnings;
+  if (solution.link_budget_reached) {
+    warnings.push_back(option_name("max_links", style) + " reached; refinement stopped early");
+  }
+  if (solution.memory_budget_reached) {
+    warnings.push_back(option_name("max_memory", style) + " reached; refinement stopped early");
+  }
+  // An iteration limit, not convergence, ends a solve whose light does not
+  // die out (Kd = 1 in a closed scene, docs/robustness.md).
+  const bool linear = settings.method == SolveMethod::kLinear;
+  const int max_iterations = linear ? settings.linear.max_iterations : settings.classical.max_iterations;
+  const double tolerance = linear ? settings.linear.tolerance : settings.classical.tolerance;
+  const double final_change = solution.stats.value("final_change", 0.0);
+  if (solution.stats.value("iterations", 0) >= max_iterations && !(final_change < tolerance)) {
+    std::ostringstream line;
+    line << "not converged after " << max_iterations << " iterations (largest change " << final_change
+         << ", tolerance " << tolerance << "); the result is the last iteration's";
+    warnings.push_back(line.str());
+  }
+  return warnings;
+}
+
 SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
                           const std::function<void(int, double)>& progress) {
   const auto t_mesh = Clock::now();
@@ -154,6 +226,8 @@ SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
   const auto t_view = Clock::now();
   SceneSolution out;
   out.view = make_solution_view(surfaces, settings.camera, settings.tone);
+  out.view.export_mesh.colour_meaning =
+      "display colour, tone-mapped " + out.view.tone_map->describe() + ", not linear";
   out.link_budget_reached = run.budget_reached;
   out.memory_budget_reached = run.memory_budget_reached;
 

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +37,19 @@ struct SceneSolution {
   bool link_budget_reached = false;    // refinement stopped at max_links
   bool memory_budget_reached = false;  // refinement stopped at max_bytes
 };
+
+// Each throws std::invalid_argument naming the first setting out of range,
+// as `style` names settings. The solver options can be checked before the
+// scene is read; meshing and tone depend on it.
+void check_solver_options(const SolveSettings& settings, OptionStyle style);
+void check_meshing_options(const MeshingOptions& meshing, OptionStyle style);
+
+// What to tell the user before solving (no emitter: the result is black) and
+// after (a budget stopped refinement, the iteration limit came before
+// convergence), one line each without a prefix.
+std::vector<std::string> scene_warnings(const Scene& scene);
+std::vector<std::string> solution_warnings(const SolveSettings& settings, const SceneSolution& solution,
+                                           OptionStyle style);
 
 // progress(iteration, largest change) after each solver iteration.
 SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "render/gouraud.hpp"
 
@@ -19,6 +20,41 @@ double log_average_luminance(const Image& radiance, const std::vector<std::uint8
     ++count;
   }
   return count ? std::exp(sum / static_cast<double>(count)) : 0.0;
+}
+
+std::string option_name(const std::string& keyword, OptionStyle style) {
+  if (style == OptionStyle::kKeyword) return keyword;
+  std::string flag = "--" + keyword;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
+}
+
+ToneMapChoice::Kind tone_map_kind(const std::string& name, OptionStyle style) {
+  if (name == "tumblin-rushmeier") return ToneMapChoice::Kind::kTumblinRushmeier;
+  if (name == "linear") return ToneMapChoice::Kind::kLinear;
+  throw std::invalid_argument(option_name("tone_map", style) + " must be tumblin-rushmeier or linear");
+}
+
+ToneMapChoice tone_choice_from_scene(const ToneMapSettings& file, OptionStyle style) {
+  ToneMapChoice tone;
+  if (file.kind) tone.kind = tone_map_kind(*file.kind, style);
+  tone.world_adaptation = file.world_adaptation.value_or(tone.world_adaptation);
+  tone.units_to_cd_m2 = file.units_to_cd_m2.value_or(tone.units_to_cd_m2);
+  tone.linear_white = file.white.value_or(tone.linear_white);
+  tone.display_max_cd_m2 = file.display_max_cd_m2.value_or(tone.display_max_cd_m2);
+  tone.max_contrast = file.max_contrast.value_or(tone.max_contrast);
+  tone.gamma = file.gamma.value_or(tone.gamma);
+  return tone;
+}
+
+void check_tone_choice(const ToneMapChoice& tone, OptionStyle style) {
+  if (!(tone.units_to_cd_m2 > 0) || !(tone.display_max_cd_m2 > 0) || !(tone.max_contrast > 1) ||
+      !(tone.gamma > 0) || !(tone.world_adaptation >= 0) || !(tone.linear_white >= 0)) {
+    const auto name = [style](const char* keyword) { return option_name(keyword, style); };
+    throw std::invalid_argument("tone map: " + name("units_to_cd") + ", " + name("display_max") + " and " +
+                                name("gamma") + " must be positive, " + name("max_contrast") + " above 1, " +
+                                name("adaptation") + " and " + name("white") + " zero or positive");
+  }
 }
 
 std::unique_ptr<ToneMap> make_tone_map(const ToneMapChoice& tone, double log_average, double brightest) {

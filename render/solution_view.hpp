@@ -4,6 +4,7 @@
 // the scene camera, and the Gouraud images (docs/design.md §1 outputs).
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "io/image_io.hpp"
@@ -28,6 +29,23 @@ struct ToneMapChoice {
   double gamma = 2.2;
   double linear_white = 0.0;  // 0: the largest luminance the camera sees
 };
+
+// How a check names a setting in its message: as a command-line flag
+// ("--eps-pixel") or as a keyword of the Python module ("eps_pixel").
+enum class OptionStyle { kFlag, kKeyword };
+
+// keyword is the snake_case name ("max_links"); the flag is its kebab form.
+std::string option_name(const std::string& keyword, OptionStyle style);
+
+// "tumblin-rushmeier" or "linear"; anything else throws std::invalid_argument.
+ToneMapChoice::Kind tone_map_kind(const std::string& name, OptionStyle style);
+
+// A scene file's "tone_map" block over the defaults; a caller's own settings
+// (flags, keywords) then override single fields. Throws std::invalid_argument.
+ToneMapChoice tone_choice_from_scene(const ToneMapSettings& file, OptionStyle style);
+
+// Throws std::invalid_argument naming the fields out of range.
+void check_tone_choice(const ToneMapChoice& tone, OptionStyle style);
 
 struct SolutionView {
   ExportMesh export_mesh;  // all surfaces, display colours and radiance

@@ -5,7 +5,8 @@ packages=(build-essential cmake pkg-config
   libopenmesh-dev libcgal-dev libembree-dev libopenimageio-dev
   libboost-program-options-dev libtbb-dev libtinyobjloader-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev gnuplot-nox assimp-utils
-  clang-14 libclang-rt-14-dev)
+  clang-14 libclang-rt-14-dev
+  meshlab xvfb xauth python3)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -6,7 +6,8 @@ packages=(build-essential cmake pkg-config
   libboost-program-options-dev libtbb-dev libtinyobjloader-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev gnuplot-nox assimp-utils
   clang-14 libclang-rt-14-dev
-  pybind11-dev python3-dev python3-numpy python3-pytest)
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  meshlab xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -32,7 +32,10 @@ void print_usage(std::ostream& out) {
   for (const Command& c : kCommands) {
     out << "  " << c.name << std::string(10 - std::string(c.name).size(), ' ') << c.summary << "\n";
   }
-  out << "\n'lhr <command> --help' describes a command's options; 'lhr --version' prints the version.\n";
+  out << "\n'lhr <command> --help' describes a command's options; 'lhr --version' prints the version.\n\n"
+         "exit status: 0 done; 1 bad input, an invalid mesh (validate) or an I/O error, with one\n"
+         "line naming the file and the problem; 2 a bad command line; 130 stopped by Ctrl-C or SIGTERM,\n"
+         "earlier outputs left as they were.\n";
 }
 
 }  // namespace

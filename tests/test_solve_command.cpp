@@ -40,6 +40,17 @@ TEST(Command, VersionIsTheProjectVersion) {
   EXPECT_EQ(r.out, "lhr " + project_version() + "\n");
 }
 
+TEST(Command, HelpListsTheExitStatuses) {
+  const auto r = test::run_lhr({"--help"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* status : {"exit status: 0", "; 1 bad input", "; 2 a bad command line", "; 130 stopped"}) {
+    EXPECT_NE(r.out.find(status), std::string::npos) << status << " in\n" << r.out;
+  }
+  // And they are what a command returns.
+  EXPECT_EQ(test::run_lhr({"solve", "--no-such-flag"}).exit_code, 2);
+  EXPECT_EQ(test::run_lhr({"validate", (test::source_dir() / "no-such-file.ply").string()}).exit_code, 1);
+}
+
 TEST(Command, HelpShowsDefaultsAsWritten) {
   // Boost prints a double default at full precision: 2.2000000000000002.
   for (const char* command : {"solve", "mesh", "validate", "reference", "compare", "bench", "scene"}) {

@@ -826,65 +826,86 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
   }
 }
 
-bool LinearSolver::refine_shooters(std::vector<PendingLink>& evaluated) {
+bool LinearSolver::refine_shooters() {
   // Paper §4.2: a link whose largest basis contribution, reflected and seen by
   // the camera, is significant is replaced by links from the shooter's
-  // children, recursively (a pass per level).
+  // children, recursively (a pass per level). The first pass takes the
+  // links graph by graph, in the order a list of all of them would have:
+  // such a list is as large as the links themselves and would double the
+  // memory --max-memory bounds (docs/robustness.md).
+  if (options_.checkpoint) options_.checkpoint();
+  bool changed = false;
+  std::vector<PendingLink> created;
+  std::vector<PendingLink> candidates;
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    candidates.clear();
+    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
+    }
+    changed |= split_shooters(candidates, created);
+  }
+  compute_coefficients(created);
+  candidates = std::move(created);
+  for (int pass = 1; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
+    if (options_.checkpoint) options_.checkpoint();
+    std::vector<PendingLink> next;
+    changed |= split_shooters(candidates, next);
+    compute_coefficients(next);
+    candidates = std::move(next);
+  }
+  return changed;
+}
+
+bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
   bool changed = false;
   const std::vector<std::vector<double>>& importance = graph_importance_;
-  std::vector<PendingLink> candidates = std::move(evaluated);
-  for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
-    if (options_.checkpoint) options_.checkpoint();
-    std::vector<PendingLink> created;
-    const auto shared = shared_representation_error(candidates);
-    for (const PendingLink& p : candidates) {
-      InteractionGraph& g = graphs_[p.graph];
-      const int s = g.shooter_surface();
-      if (static_cast<std::size_t>(p.graph) >= importance.size() ||
-          static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) {
-        continue;
-      }
-      const GraphLink link = g.links(p.vertex)[p.slot];
-      if (!splittable(s, link.shooter, g.receiver_surface())) continue;
-      const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
-      double largest = 0.0;
-      for (int l = 0; l < 3; ++l) {
-        Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
-        for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
-        largest = std::max(largest, luminance(transfer));
-      }
-      // Or the element's own representation is off, over every node sharing it.
-      const double shared_error = shared.at(element_key(p.graph, link.shooter));
-      const auto own_error_too_large = [&] {
-        if (!(options_.eps_vertex > 0)) return false;
-        // A node made in this refinement pass has no value yet: the floor
-        // stands for it until the next push.
-        const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
-        const VertexId v = g.vertex(p.vertex);
-        const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
-        const double floor = kVertexErrorFloor * adaptation_;
-        return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
-      };
-      const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
-                        shared_error / adaptation_ > options_.eps_link;
-      const bool own = !seen && own_error_too_large();
-      if (!seen && !own) continue;
-      if (over_budget(3)) continue;
-      const std::vector<NodeId> kids = children(s, link.shooter);
-      std::vector<GraphLink>& links = g.links(p.vertex);
-      links[p.slot] = {kids[0], {}};
-      created.push_back(p);
-      for (std::size_t c = 1; c < kids.size(); ++c) {
-        created.push_back({p.graph, p.vertex, links.size()});
-        links.push_back({kids[c], {}});
-      }
-      links_now_ += kids.size() - 1;
-      ++stats_.shooter_refinements;
-      if (own) ++stats_.vertex_error_refinements;
-      changed = true;
+  const auto shared = shared_representation_error(candidates);
+  for (const PendingLink& p : candidates) {
+    InteractionGraph& g = graphs_[p.graph];
+    const int s = g.shooter_surface();
+    if (static_cast<std::size_t>(p.graph) >= importance.size() ||
+        static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) {
+      continue;
     }
-    compute_coefficients(created);
-    candidates = std::move(created);
+    const GraphLink link = g.links(p.vertex)[p.slot];
+    if (!splittable(s, link.shooter, g.receiver_surface())) continue;
+    const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+    double largest = 0.0;
+    for (int l = 0; l < 3; ++l) {
+      Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
+      for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
+      largest = std::max(largest, luminance(transfer));
+    }
+    // Or the element's own representation is off, over every node sharing it.
+    const double shared_error = shared.at(element_key(p.graph, link.shooter));
+    const auto own_error_too_large = [&] {
+      if (!(options_.eps_vertex > 0)) return false;
+      // A node made in this refinement pass has no value yet: the floor
+      // stands for it until the next push.
+      const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
+      const VertexId v = g.vertex(p.vertex);
+      const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
+      const double floor = kVertexErrorFloor * adaptation_;
+      return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
+    };
+    const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
+                      shared_error / adaptation_ > options_.eps_link;
+    const bool own = !seen && own_error_too_large();
+    if (!seen && !own) continue;
+    if (over_budget(3)) continue;
+    const std::vector<NodeId> kids = children(s, link.shooter);
+    std::vector<GraphLink>& links = g.links(p.vertex);
+    links[p.slot] = {kids[0], {}};
+    created.push_back(p);
+    for (std::size_t c = 1; c < kids.size(); ++c) {
+      created.push_back({p.graph, p.vertex, links.size()});
+      links.push_back({kids[c], {}});
+    }
+    links_now_ += kids.size() - 1;
+    ++stats_.shooter_refinements;
+    if (own) ++stats_.vertex_error_refinements;
+    changed = true;
   }
   return changed;
 }
@@ -1078,13 +1099,7 @@ bool LinearSolver::refine() {
   const auto start = Clock::now();
   update_link_cap();
   const double coefficient_seconds = stats_.seconds_coefficients;
-  std::vector<PendingLink> all;
-  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
-    for (int i = 0; i < static_cast<int>(graphs_[gi].num_vertices()); ++i) {
-      for (std::size_t t = 0; t < graphs_[gi].links(i).size(); ++t) all.push_back({static_cast<int>(gi), i, t});
-    }
-  }
-  bool changed = refine_shooters(all);
+  bool changed = refine_shooters();
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
   std::vector<PendingLink> pending;
   changed |= refine_receivers(pending, *tone);

@@ -208,7 +208,10 @@ class LinearSolver {
   void carry_importance_back();
   double node_importance(int s, NodeId n) const;
   bool refine();
-  bool refine_shooters(std::vector<PendingLink>& pending);
+  bool refine_shooters();
+  // One pass of refine_shooters() over the given links; appends the links it
+  // makes (without coefficients) to created.
+  bool split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created);
   bool refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone);
   void seed_vertices(int graph, const std::vector<InteractionGraph::NewVertex>& created,
                      std::vector<PendingLink>& pending);

@@ -19,6 +19,7 @@
 #include "io/mesh_io.hpp"
 #include "io/output_dir.hpp"
 #include "io/scene_loader.hpp"
+#include "radiosity/memory_budget.hpp"
 #include "render/scene_solution.hpp"
 
 namespace lhr::app {
@@ -69,10 +70,12 @@ int run_solve(const Args& args) {
        "stop when no value changes by more than this fraction of the brightest emitted radiance "
        "(default: linear 1e-4, classical 1e-5)")
       ("max-links", po::value<std::size_t>()->default_value(0), "stop refining at this many links (0: no limit)")
-      ("max-memory", po::value<std::string>()->default_value("0"),
+      ("max-memory", po::value<std::string>()->default_value("auto"),
        "stop refining before the radiosity data (hierarchies, values, graphs, links: stats.json bytes.total) "
-       "passes this size, e.g. 512M or 2G (0: no limit); the process adds the scene, its ray-tracing "
-       "structure and the libraries (docs/robustness.md)")
+       "passes this size, e.g. 512M or 2G; auto: a quarter of this machine's memory (or of its control "
+       "group's limit); 0: no limit. The process adds the scene, its ray-tracing structure, the libraries "
+       "and about 64 bytes per image pixel; a camera whose image does not fit beside the budget is refused "
+       "(docs/robustness.md)")
       ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
        "k: k^2 shadow rays per link")
       ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
@@ -136,7 +139,10 @@ int run_solve(const Args& args) {
   classical.max_iterations = linear.max_iterations = max_iterations;
   classical.tolerance = linear.tolerance = tolerance;
   classical.max_links = linear.max_links = max_links;
-  classical.max_bytes = linear.max_bytes = parse_byte_size(vm["max-memory"].as<std::string>(), "--max-memory");
+  const std::string max_memory = vm["max-memory"].as<std::string>();
+  const bool default_budget = max_memory == "auto";
+  classical.max_bytes = linear.max_bytes =
+      default_budget ? default_memory_budget() : parse_byte_size(max_memory, "--max-memory");
   classical.visibility_samples = linear.visibility_samples = visibility_samples;
   try {
     check_solver_options(settings, OptionStyle::kFlag);
@@ -147,13 +153,19 @@ int run_solve(const Args& args) {
   // Options are checked before the scene is read: a bad flag is the one line
   // of output, not a scene's warnings and then the flag.
   const LoadResult loaded = load_scene(vm["scene"].as<std::string>(), load_options_from(vm));
-  if (!quiet) {
-    for (const std::string& w : loaded.warnings) std::cerr << "lhr solve: warning: " << w << "\n";
-  }
   const Scene& scene = loaded.scene;
   const Camera camera = scene.camera.value_or(framing_camera(scene));
   settings.camera = camera;
   settings.meshing = meshing_options_from(vm, scene);
+  try {
+    check_image_budget(settings, OptionStyle::kFlag);
+  } catch (const std::invalid_argument& e) {
+    throw po::error(e.what());
+  }
+  // After the checks that need the scene, so that a refusal is one line too.
+  if (!quiet) {
+    for (const std::string& w : loaded.warnings) std::cerr << "lhr solve: warning: " << w << "\n";
+  }
 
   // Refuse an unusable output directory before the work, not after, and hold
   // it until the outputs are published: two solves into one directory would
@@ -163,6 +175,10 @@ int run_solve(const Args& args) {
 
   if (!quiet) {
     for (const std::string& w : scene_warnings(scene)) std::cerr << "lhr solve: warning: " << w << "\n";
+    if (default_budget && linear.max_bytes > 0) {
+      std::cerr << "lhr solve: memory budget " << format_bytes(linear.max_bytes) << " for the radiosity data (a quarter of "
+                << format_bytes(machine_memory_bytes()) << "; --max-memory sets it)\n";
+    }
   }
 
   // The tone map shapes the linear method's receiver oracle (paper §4.1) as

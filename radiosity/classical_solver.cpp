@@ -23,6 +23,8 @@ using Clock = std::chrono::steady_clock;
 
 // Share of max_bytes the link cap plans to fill (refine_links).
 constexpr double kMemoryBudgetUsable = 0.9;
+// New links finished at a time in refine_links(): enough for every core.
+constexpr std::size_t kPendingChunk = std::size_t{1} << 16;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -310,6 +312,7 @@ double ClassicalSolver::estimate_form_factor(const Element& receiver, const Elem
 
 bool ClassicalSolver::refine_links() {
   const auto start = Clock::now();
+  const double coefficient_seconds = stats_.seconds_coefficients;
   const double threshold = options_.eps_bf * max_emitted_;
   std::size_t links_now = count_links();
   std::size_t link_cap = options_.max_links > 0 ? options_.max_links : std::numeric_limits<std::size_t>::max();
@@ -332,6 +335,19 @@ bool ClassicalSolver::refine_links() {
   }
   std::vector<PendingLink> pending;
   bool changed = false;
+  // New links wait in `pending` for their coefficients, at more bytes each
+  // than a finished link; a pass that pushes most receivers down would list
+  // every link there at once, uncounted by --max-memory. They are finished
+  // in chunks instead, once the receiver that made them has its own list
+  // back: no node takes its links twice, and each link's coefficient
+  // depends on its two elements only, so the result is the same.
+  const auto finish_pending = [&] {
+    compute_coefficients(pending);
+    for (const PendingLink& p : pending) {
+      if (p.form_factor > 0.0f) links_of(p.receiver).push_back({p.shooter, p.form_factor, p.oracle});
+    }
+    pending.clear();
+  };
 
   // The floor depends on the other end of the link (radiosity/element_floor.hpp).
   const auto splittable = [&](const Element& e, int partner) {
@@ -419,14 +435,11 @@ bool ClassicalSolver::refine_links() {
         pending.insert(pending.end(), local.begin(), local.end());
       }
       links_of(receiver) = std::move(kept);
+      if (pending.size() >= kPendingChunk) finish_pending();
     }
   }
-  stats_.seconds_refine += seconds_since(start);
-
-  compute_coefficients(pending);
-  for (const PendingLink& p : pending) {
-    if (p.form_factor > 0.0f) links_of(p.receiver).push_back({p.shooter, p.form_factor, p.oracle});
-  }
+  finish_pending();
+  stats_.seconds_refine += seconds_since(start) - (stats_.seconds_coefficients - coefficient_seconds);
   return changed;
 }
 

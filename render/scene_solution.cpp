@@ -1,10 +1,12 @@
 #include "render/scene_solution.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
+#include "radiosity/memory_budget.hpp"
 #include "radiosity/scene_model.hpp"
 #include "render/gouraud.hpp"
 
@@ -178,6 +180,25 @@ void check_meshing_options(const MeshingOptions& meshing, OptionStyle style) {
   if (!(meshing.min_angle_deg > 0.0 && meshing.min_angle_deg <= 30.0)) {
     throw std::invalid_argument(option_name("min_angle", style) + " must be in (0, 30] degrees");
   }
+}
+
+void check_image_budget(const SolveSettings& settings, OptionStyle style) {
+  const std::size_t machine = machine_memory_bytes();
+  if (machine == 0) return;
+  const std::size_t max_bytes = settings.method == SolveMethod::kLinear ? settings.linear.max_bytes
+                                                                        : settings.classical.max_bytes;
+  const double pixels = static_cast<double>(settings.camera.width) * static_cast<double>(settings.camera.height);
+  const double needed = pixels * static_cast<double>(kImageBytesPerPixel);
+  // The radiosity data may take up to 1.5 times its budget (docs/robustness.md).
+  const double beside = 1.5 * static_cast<double>(max_bytes);
+  if (needed + beside <= static_cast<double>(machine)) return;
+  std::ostringstream line;
+  line << "a " << settings.camera.width << " x " << settings.camera.height << " image needs about "
+       << format_bytes(static_cast<std::size_t>(std::min(needed, 1e18)));
+  line << (max_bytes > 0 ? ", which beside a memory budget of " + format_bytes(max_bytes) + " is" : std::string(","));
+  line << " more than the " << format_bytes(machine) << " this machine has: make the camera's width and height smaller";
+  if (max_bytes > 0) line << " or lower " << option_name("max_memory", style);
+  throw std::invalid_argument(line.str());
 }
 
 std::vector<std::string> scene_warnings(const Scene& scene) {

@@ -43,6 +43,15 @@ struct SceneSolution {
 // scene is read; meshing and tone depend on it.
 void check_solver_options(const SolveSettings& settings, OptionStyle style);
 void check_meshing_options(const MeshingOptions& meshing, OptionStyle style);
+// The camera's image against the machine's memory beside the radiosity
+// data's budget (docs/robustness.md, "Budgets"): a view that cannot fit is
+// refused before the work starts, not found out by the allocator.
+void check_image_budget(const SolveSettings& settings, OptionStyle style);
+
+// What an image costs a solve per pixel, bytes (the view's samples, the
+// radiance and display images, the files' buffers), rounded up from peak
+// resident memory at 512², 2048² and 4096² (43–49 bytes).
+inline constexpr std::size_t kImageBytesPerPixel = 64;
 
 // What to tell the user before solving (no emitter: the result is black) and
 // after (a budget stopped refinement, the iteration limit came before

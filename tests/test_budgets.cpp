@@ -7,6 +7,9 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +21,7 @@
 #include "mesh/validate.hpp"
 #include "radiosity/classical_solver.hpp"
 #include "radiosity/linear_solver.hpp"
+#include "radiosity/memory_budget.hpp"
 #include "scene_fixtures.hpp"
 #include "test_support.hpp"
 
@@ -168,16 +172,35 @@ constexpr bool kResidentSizesMeaningful = true;
 constexpr bool kResidentSizesMeaningful = true;
 #endif
 
-nlohmann::json solve_cornell(const std::string& name, const std::vector<std::string>& flags, std::string* err) {
+nlohmann::json solve_file(const std::filesystem::path& scene, const std::string& name,
+                          const std::vector<std::string>& flags, std::string* err) {
   const auto dir = test::fresh_dir(name);
-  std::vector<std::string> args = {"solve", (test::source_dir() / "data/cornell/cornell.scene.json").string(),
-                                   "--out", dir.string()};
+  std::vector<std::string> args = {"solve", scene.string(), "--out", dir.string()};
   args.insert(args.end(), flags.begin(), flags.end());
   const auto r = test::run_lhr(args);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   if (err) *err = r.err;
   return nlohmann::json::parse(test::read_text(dir / "stats.json"));
 }
+
+nlohmann::json solve_cornell(const std::string& name, const std::vector<std::string>& flags, std::string* err) {
+  return solve_file(test::source_dir() / "data/cornell/cornell.scene.json", name, flags, err);
+}
+
+// A closed cube of six inward quads, every one glowing (Le 1) and reflecting
+// (rho 0.5): the radiance is 2 everywhere, so nothing but the budget stops
+// the classical method's BF refinement (its transfer never falls).
+void write_glowing_cube(const std::filesystem::path& dir) {
+  test::write_text(dir / "cube.mtl", "newmtl glow\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+  test::write_text(dir / "cube.obj",
+                   "mtllib cube.mtl\n"
+                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                   "usemtl glow\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n");
+}
+
+// The margin the issue asks of the default budget: 1.2 times the budget over
+// the base (docs/robustness.md states it).
+constexpr double kPeakMargin = 1.2;
 
 TEST(Budgets, PeakMemoryStaysWithinTheMemoryBudgetPlusMargin) {
   if (!kResidentSizesMeaningful) GTEST_SKIP() << "resident sizes are meaningless under AddressSanitizer";
@@ -192,7 +215,81 @@ TEST(Budgets, PeakMemoryStaysWithinTheMemoryBudgetPlusMargin) {
   const double peak_mib = capped["peak_memory_mib"].get<double>();
   RecordProperty("base_mib", std::to_string(base_mib));
   RecordProperty("peak_mib", std::to_string(peak_mib));
-  EXPECT_LE(peak_mib, base_mib + 1.5 * 24) << "base " << base_mib << " MiB";
+  EXPECT_LE(peak_mib, base_mib + kPeakMargin * 24) << "base " << base_mib << " MiB";
+}
+
+TEST(Budgets, ClassicalPeakMemoryOnAGlowingCubeStaysWithinTheBudgetPlusMargin) {
+  // Each refinement pass once listed every new link before its coefficients
+  // (at more bytes than a finished link), uncounted: 1.5 times the budget
+  // over the base at 24 MiB, 2 times at 100 MiB.
+  if (!kResidentSizesMeaningful) GTEST_SKIP() << "resident sizes are meaningless under AddressSanitizer";
+  constexpr double kMiB = 1024.0 * 1024.0;
+  const auto dir = test::fresh_dir("budget_cube");
+  write_glowing_cube(dir);
+  const nlohmann::json base =
+      solve_file(dir / "cube.obj", "budget_cube_base", {"--method", "classical", "--max-links", "1"}, nullptr);
+  const nlohmann::json capped =
+      solve_file(dir / "cube.obj", "budget_cube_capped", {"--method", "classical", "--max-memory", "16M"}, nullptr);
+  EXPECT_TRUE(capped["memory_budget_reached"].get<bool>());
+  EXPECT_LE(capped["bytes"]["total"].get<double>(), 16 * kMiB);
+  const double base_mib = base["peak_memory_mib"].get<double>();
+  const double peak_mib = capped["peak_memory_mib"].get<double>();
+  RecordProperty("base_mib", std::to_string(base_mib));
+  RecordProperty("peak_mib", std::to_string(peak_mib));
+  EXPECT_LE(peak_mib, base_mib + kPeakMargin * 16) << "base " << base_mib << " MiB";
+}
+
+std::size_t meminfo_total_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::size_t kib = 0;
+  while (in >> key) {
+    if (key == "MemTotal:" && in >> kib) return kib * 1024;
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return 0;
+}
+
+TEST(Budgets, TheDefaultMemoryBudgetIsAQuarterOfTheMachineAndIsPrinted) {
+  const std::size_t total = meminfo_total_bytes();
+  ASSERT_GT(total, 0u);
+  const std::size_t machine = machine_memory_bytes();
+  EXPECT_GT(machine, 0u);
+  EXPECT_LE(machine, total) << "a control group may lower it, never raise it";
+  EXPECT_NEAR(static_cast<double>(default_memory_budget()), 0.25 * static_cast<double>(machine), 1.0);
+
+  const auto dir = test::fresh_dir("budget_default");
+  test::write_lit_floor_obj(dir);
+  std::string err;
+  const nlohmann::json by_default = solve_file(dir / "tiny.obj", "budget_default_out", {}, &err);
+  EXPECT_EQ(by_default["parameters"]["max_bytes"].get<std::size_t>(), default_memory_budget());
+  EXPECT_NE(err.find("memory budget " + format_bytes(default_memory_budget())), std::string::npos) << err;
+  const nlohmann::json unlimited = solve_file(dir / "tiny.obj", "budget_none_out", {"--max-memory", "0"}, &err);
+  EXPECT_EQ(unlimited["parameters"]["max_bytes"].get<std::size_t>(), 0u);
+  EXPECT_EQ(err.find("memory budget"), std::string::npos) << err;
+  const nlohmann::json chosen = solve_file(dir / "tiny.obj", "budget_chosen_out", {"--max-memory", "24M"}, &err);
+  EXPECT_EQ(chosen["parameters"]["max_bytes"].get<std::size_t>(), std::size_t{24} << 20);
+  EXPECT_EQ(err.find("memory budget"), std::string::npos) << "only the default is announced: " << err;
+}
+
+TEST(Budgets, ACameraWhoseImageCannotFitIsRefusedBeforeTheWork) {
+  // 60000 x 60000 pixels at 64 bytes: 215 GiB.
+  if (machine_memory_bytes() > (std::size_t{200} << 30)) GTEST_SKIP() << "this machine could hold the image";
+  const auto dir = test::fresh_dir("budget_image");
+  test::write_lit_floor_obj(dir);
+  test::write_text(dir / "huge.scene.json",
+                   R"({"mesh": "tiny.obj", "camera": {"eye": [0.5, 0.5, 3], "target": [0.5, 0.5, 0], )"
+                   R"("up": [0, 1, 0], "fov_y_deg": 40, "width": 60000, "height": 60000}})");
+  for (const std::string budget : {"auto", "0"}) {
+    SCOPED_TRACE(budget);
+    const auto out = dir / ("out_" + budget);
+    const test::CommandResult r =
+        test::run_lhr({"solve", (dir / "huge.scene.json").string(), "--out", out.string(), "--max-memory", budget});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("a 60000 x 60000 image needs about"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << "refused before the output directory is made";
+  }
 }
 
 TEST(Budgets, MaxLinksWarnsAndIsRecordedInStats) {

@@ -25,6 +25,7 @@
 #include "io/scene_loader.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "mesh/validate.hpp"
+#include "radiosity/memory_budget.hpp"
 #include "render/scene_solution.hpp"
 
 namespace py = pybind11;
@@ -104,7 +105,7 @@ using MaybeInt = std::optional<int>;
 
 Solution solve(const std::filesystem::path& path, const std::string& method, Maybe eps_pixel, Maybe eps_link,
                Maybe eps_vertex, Maybe vis_threshold, Maybe link_power, Maybe eps_bf, Maybe min_edge,
-               MaybeInt max_iterations, Maybe tolerance, std::size_t max_links, std::size_t max_memory,
+               MaybeInt max_iterations, Maybe tolerance, std::size_t max_links, std::optional<std::size_t> max_memory,
                MaybeInt visibility_samples, Maybe max_edge, Maybe min_angle, Maybe crease_angle,
                std::optional<std::string> tone_map, Maybe adaptation, Maybe units_to_cd, Maybe white,
                Maybe display_max, Maybe max_contrast, Maybe gamma, int threads) {
@@ -129,7 +130,8 @@ Solution solve(const std::filesystem::path& path, const std::string& method, May
   if (tolerance) linear.tolerance = classical.tolerance = *tolerance;
   if (visibility_samples) linear.visibility_samples = classical.visibility_samples = *visibility_samples;
   linear.max_links = classical.max_links = max_links;
-  linear.max_bytes = classical.max_bytes = max_memory;
+  // None: the default budget of `lhr solve` (--max-memory auto); 0: no limit.
+  linear.max_bytes = classical.max_bytes = max_memory.value_or(default_memory_budget());
   // Before the scene is read, as `lhr solve` checks its flags.
   check_solver_options(settings, OptionStyle::kKeyword);
 
@@ -157,6 +159,7 @@ Solution solve(const std::filesystem::path& path, const std::string& method, May
     warnings = loaded.warnings;
     const Scene& scene = loaded.scene;
     settings.camera = scene.camera.value_or(framing_camera(scene));
+    check_image_budget(settings, OptionStyle::kKeyword);
     // Keywords override the scene file, which overrides the default h.
     settings.meshing.max_edge = max_edge.value_or(scene.settings.max_edge.value_or(default_max_edge(scene)));
     if (min_angle) settings.meshing.min_angle_deg = *min_angle;
@@ -370,7 +373,7 @@ PYBIND11_MODULE(lhr, m) {
         py::arg("link_power").none(true) = py::none(), py::arg("eps_bf").none(true) = py::none(),
         py::arg("min_edge").none(true) = py::none(), py::arg("max_iterations").none(true) = py::none(),
         py::arg("tolerance").none(true) = py::none(), py::arg("max_links") = std::size_t{0},
-        py::arg("max_memory") = std::size_t{0}, py::arg("visibility_samples").none(true) = py::none(),
+        py::arg("max_memory").none(true) = py::none(), py::arg("visibility_samples").none(true) = py::none(),
         py::arg("max_edge").none(true) = py::none(), py::arg("min_angle").none(true) = py::none(),
         py::arg("crease_angle").none(true) = py::none(), py::arg("tone_map").none(true) = py::none(),
         py::arg("adaptation").none(true) = py::none(), py::arg("units_to_cd").none(true) = py::none(),

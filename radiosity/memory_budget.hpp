@@ -1,0 +1,26 @@
+#pragma once
+// The memory a solve may give its radiosity data (docs/robustness.md,
+// "Budgets"): what the machine has, and the default share of it.
+#include <cstddef>
+#include <string>
+
+namespace lhr {
+
+// Of the memory this machine has, the share a solve's radiosity data gets by
+// default. The stated margin (peak ≤ base + 1.5 × budget) keeps the whole
+// process under about two fifths of the machine.
+inline constexpr double kDefaultMemoryBudgetFraction = 0.25;
+
+// The memory this process may use: the machine's physical memory, or less
+// where a control group (a container, a CI runner) limits it. 0 when
+// neither can be read.
+std::size_t machine_memory_bytes();
+
+// kDefaultMemoryBudgetFraction of machine_memory_bytes(); 0 (no limit) when
+// that is unknown.
+std::size_t default_memory_budget();
+
+// "512 MiB", "5.9 GiB": a size for a message.
+std::string format_bytes(std::size_t bytes);
+
+}  // namespace lhr

@@ -193,7 +193,7 @@ int run_solve(const Args& args) {
       std::cerr << "\riteration " << iteration << ": largest change " << change << "   " << std::flush;
     }
   };
-  settings.linear.checkpoint = throw_if_interrupted;
+  settings.linear.checkpoint = settings.classical.checkpoint = throw_if_interrupted;
   SceneSolution solution;
   try {
     solution = solve_scene(scene, settings, report);

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "radiosity/form_factor.hpp"
+#include "radiosity/interruptible.hpp"
 #include "radiosity/root_clusters.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/shooter_spread.hpp"
@@ -266,7 +267,7 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
 void ClassicalSolver::compute_coefficients(std::vector<PendingLink>& pending) {
   const auto start = Clock::now();
   std::atomic<std::uint64_t> rays{0};
-  tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t i) {
+  interruptible_parallel_for(pending.size(), options_.checkpoint, [&](std::size_t i) {
     std::uint64_t local = 0;
     PendingLink& p = pending[i];
     p.form_factor = coefficient(p.receiver, p.shooter, local);
@@ -436,6 +437,7 @@ bool ClassicalSolver::refine_links() {
       }
       links_of(receiver) = std::move(kept);
       if (pending.size() >= kPendingChunk) finish_pending();
+      if (options_.checkpoint && n % 1024 == 0) options_.checkpoint();
     }
   }
   finish_pending();
@@ -498,12 +500,20 @@ double ClassicalSolver::push_pull() {
 }
 
 void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
+  const auto checkpoint = [this] {
+    if (options_.checkpoint) options_.checkpoint();
+  };
   link_surfaces();
   push_pull();  // leaves start at their emission
   const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
   for (int it = 1; it <= options_.max_iterations; ++it) {
     bool refined = false;
-    for (int pass = 0; pass < kMaxRefinePasses && refine_links(); ++pass) refined = true;
+    for (int pass = 0; pass < kMaxRefinePasses; ++pass) {
+      checkpoint();
+      if (!refine_links()) break;
+      refined = true;
+    }
+    checkpoint();
     gather();
     const double change = push_pull() / scale;
     stats_.iterations = it;

@@ -47,6 +47,10 @@ struct ClassicalOptions {
   // Memory of the radiosity data (ClassicalStats::bytes_total()), bytes;
   // 0 = no limit. Refinement stops before the data passes it.
   std::size_t max_bytes = 0;
+  // Called between phases and within the long loops (radiosity/
+  // interruptible.hpp); may throw to abandon the solve (an interrupted run),
+  // leaving the solver unusable.
+  std::function<void()> checkpoint = {};
 };
 
 struct ClassicalStats {

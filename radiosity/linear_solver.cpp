@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "radiosity/form_factor.hpp"
+#include "radiosity/interruptible.hpp"
 #include "radiosity/receiver_oracle.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/shooter_spread.hpp"
@@ -557,7 +558,7 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
 void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
   const auto start = Clock::now();
   std::atomic<std::uint64_t> rays{0};
-  tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t i) {
+  interruptible_parallel_for(pending.size(), options_.checkpoint, [&](std::size_t i) {
     const PendingLink& p = pending[i];
     InteractionGraph& g = graphs_[p.graph];
     GraphLink& link = g.links(p.vertex)[p.slot];

@@ -86,8 +86,9 @@ struct LinearOptions {
   // the largest luminance the camera sees now (recomputed each iteration).
   // Default: Tumblin–Rushmeier with the docs/design.md §4 defaults.
   std::function<std::unique_ptr<ToneMap>(double log_average, double brightest)> tone_map;
-  // Called between the phases of an iteration; may throw to abandon the
-  // solve (an interrupted run), leaving the solver unusable.
+  // Called between the phases of an iteration and within the long loops
+  // (radiosity/interruptible.hpp); may throw to abandon the solve (an
+  // interrupted run), leaving the solver unusable.
   std::function<void()> checkpoint;
 };
 

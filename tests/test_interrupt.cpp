@@ -19,6 +19,7 @@ namespace {
 struct Interrupted {
   int exit_code = -1;
   std::string err;
+  double seconds_to_stop = 0.0;  // from the signal to the exit
 };
 
 // True once process pid has a handler for signal (its SigCgt mask in
@@ -45,9 +46,11 @@ Interrupted interrupt_run(const std::filesystem::path& dir, std::vector<std::str
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   std::this_thread::sleep_for(delay);
+  const auto signalled = std::chrono::steady_clock::now();
   kill(pid, signal);
   int status = 0;
   waitpid(pid, &status, 0);
+  result.seconds_to_stop = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   result.err = test::read_text(err_file);
   return result;
@@ -69,6 +72,46 @@ TEST(Interrupt, SignalMidSolveExitsCleanlyAndKeepsOldOutputs) {
     EXPECT_EQ(test::read_text(dir / "out" / "mesh.ply"), "earlier result");
     EXPECT_EQ(test::file_names(dir / "out"), std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
   }
+}
+
+// Sanitized builds run several times slower: there the bound on how soon
+// a run stops is not checked, only that it stops cleanly.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kTimingMeaningful = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kTimingMeaningful = false;
+#else
+constexpr bool kTimingMeaningful = true;
+#endif
+#else
+constexpr bool kTimingMeaningful = true;
+#endif
+
+TEST(Interrupt, ClassicalStopsWithinASecondMidRefinement) {
+  // A closed cube whose six faces glow (Le 1) and reflect (rho 0.5): with no
+  // budget, BF refinement never ends on it, and each pass computes the
+  // coefficients of hundreds of thousands of new links, which used to run
+  // to the end of the iteration before a signal was seen.
+  const auto dir = test::fresh_dir("interrupt_classical");
+  test::write_text(dir / "cube.mtl", "newmtl glow\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+  test::write_text(dir / "cube.obj",
+                   "mtllib cube.mtl\n"
+                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                   "usemtl glow\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n");
+  const Interrupted r = interrupt_run(dir,
+                                      {"solve", (dir / "cube.obj").string(), "--out", (dir / "out").string(),
+                                       "--method", "classical", "--max-memory", "0", "--verbose"},
+                                      "", SIGINT, std::chrono::milliseconds(2000));
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  // Its first iteration refines for minutes: the signal lands inside it.
+  EXPECT_EQ(r.err.find("iteration 1:"), std::string::npos) << "the signal should land mid-iteration: " << r.err;
+  RecordProperty("seconds_to_stop", std::to_string(r.seconds_to_stop));
+  if (kTimingMeaningful) {
+    EXPECT_LT(r.seconds_to_stop, 1.0);
+  }
+  EXPECT_TRUE(test::file_names(dir / "out").empty()) << "no new, partial or temporary file";
 }
 
 TEST(Interrupt, SignalMidReferenceExitsCleanlyAndKeepsTheOldImage) {

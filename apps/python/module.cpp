@@ -143,7 +143,7 @@ Solution solve(const std::filesystem::path& path, const std::string& method, May
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw SignalRaised();
   };
-  linear.checkpoint = check_signals;
+  linear.checkpoint = classical.checkpoint = check_signals;
 
   LoadOptions load_options;
   load_options.crease_angle_deg = crease_angle;

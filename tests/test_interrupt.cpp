@@ -76,17 +76,7 @@ TEST(Interrupt, SignalMidSolveExitsCleanlyAndKeepsOldOutputs) {
 
 // Sanitized builds run several times slower: there the bound on how soon
 // a run stops is not checked, only that it stops cleanly.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kTimingMeaningful = false;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kTimingMeaningful = false;
-#else
-constexpr bool kTimingMeaningful = true;
-#endif
-#else
-constexpr bool kTimingMeaningful = true;
-#endif
+constexpr bool kTimingMeaningful = !test::kUnderAddressSanitizer;
 
 TEST(Interrupt, ClassicalStopsWithinASecondMidRefinement) {
   // A closed cube whose six faces glow (Le 1) and reflect (rho 0.5): with no
@@ -94,11 +84,7 @@ TEST(Interrupt, ClassicalStopsWithinASecondMidRefinement) {
   // coefficients of hundreds of thousands of new links, which used to run
   // to the end of the iteration before a signal was seen.
   const auto dir = test::fresh_dir("interrupt_classical");
-  test::write_text(dir / "cube.mtl", "newmtl glow\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
-  test::write_text(dir / "cube.obj",
-                   "mtllib cube.mtl\n"
-                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-                   "usemtl glow\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n");
+  test::write_glowing_cube(dir);
   const Interrupted r = interrupt_run(dir,
                                       {"solve", (dir / "cube.obj").string(), "--out", (dir / "out").string(),
                                        "--method", "classical", "--max-memory", "0", "--verbose"},

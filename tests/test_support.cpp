@@ -115,6 +115,14 @@ void write_lit_floor_obj(const std::filesystem::path& dir) {
              "g light\nusemtl light\nv 0.2 0.2 0.5\nv 0.2 0.8 0.5\nv 0.8 0.8 0.5\nv 0.8 0.2 0.5\nf 5 6 7 8\n");
 }
 
+void write_glowing_cube(const std::filesystem::path& dir) {
+  write_text(dir / "cube.mtl", "newmtl glow\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+  write_text(dir / "cube.obj",
+             "mtllib cube.mtl\n"
+             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+             "usemtl glow\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n");
+}
+
 pid_t spawn_lhr(std::vector<std::string> args, const std::filesystem::path& err_file) {
   args.insert(args.begin(), LHR_EXECUTABLE);
   std::vector<char*> argv;

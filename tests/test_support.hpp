@@ -9,6 +9,20 @@
 
 namespace lhr::test {
 
+// Under AddressSanitizer resident sizes and run times mean nothing (shadow
+// memory, quarantine, several times slower): tests of them skip those checks.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kUnderAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kUnderAddressSanitizer = true;
+#else
+inline constexpr bool kUnderAddressSanitizer = false;
+#endif
+#else
+inline constexpr bool kUnderAddressSanitizer = false;
+#endif
+
 struct CommandResult {
   int exit_code = -1;  // -1 when the process did not exit normally (crash, signal)
   std::string out;
@@ -29,6 +43,10 @@ void write_text(const std::filesystem::path& path, const std::string& text);
 // dir/tiny.obj and dir/tiny.mtl: a unit floor (Kd 0.7 0.6 0.5) in z = 0 under
 // a 0.6 x 0.6 light (Ke 3, Kd 0) at height 0.5, facing it.
 void write_lit_floor_obj(const std::filesystem::path& dir);
+// dir/cube.obj and dir/cube.mtl: a closed unit cube of six inward quads, each
+// glowing (Ke 1) and reflecting (Kd 0.5), so the radiance is 2 everywhere and
+// nothing but a budget or a signal stops the classical method's refinement.
+void write_glowing_cube(const std::filesystem::path& dir);
 std::string read_text(const std::filesystem::path& path);
 // The names of the entries of dir, sorted.
 std::vector<std::string> file_names(const std::filesystem::path& dir);

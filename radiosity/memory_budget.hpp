@@ -6,9 +6,12 @@
 
 namespace lhr {
 
+// The stated margin: a solve's peak resident memory stays within its base
+// (the same solve stopped after linking) plus this many times the budget.
+inline constexpr double kBudgetPeakMargin = 1.2;
+
 // Of the memory this machine has, the share a solve's radiosity data gets by
-// default. The stated margin (peak ≤ base + 1.5 × budget) keeps the whole
-// process under about two fifths of the machine.
+// default: with the margin, under a third of the machine beside the base.
 inline constexpr double kDefaultMemoryBudgetFraction = 0.25;
 
 // The memory this process may use: the machine's physical memory, or less

@@ -189,8 +189,7 @@ void check_image_budget(const SolveSettings& settings, OptionStyle style) {
                                                                         : settings.classical.max_bytes;
   const double pixels = static_cast<double>(settings.camera.width) * static_cast<double>(settings.camera.height);
   const double needed = pixels * static_cast<double>(kImageBytesPerPixel);
-  // The radiosity data may take up to 1.5 times its budget (docs/robustness.md).
-  const double beside = 1.5 * static_cast<double>(max_bytes);
+  const double beside = kBudgetPeakMargin * static_cast<double>(max_bytes);
   if (needed + beside <= static_cast<double>(machine)) return;
   std::ostringstream line;
   line << "a " << settings.camera.width << " x " << settings.camera.height << " image needs about "

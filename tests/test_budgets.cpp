@@ -182,20 +182,26 @@ nlohmann::json solve_cornell(const std::string& name, const std::vector<std::str
 // the base (docs/robustness.md states it).
 constexpr double kPeakMargin = 1.2;
 
+// The capped run stopped at its budget, its counted data within it, and its
+// peak within the margin over the base run's.
+void expect_peak_within_margin(const nlohmann::json& base, const nlohmann::json& capped, double budget_mib) {
+  constexpr double kMiB = 1024.0 * 1024.0;
+  EXPECT_TRUE(capped["memory_budget_reached"].get<bool>());
+  EXPECT_LE(capped["bytes"]["total"].get<double>(), budget_mib * kMiB);
+  const double base_mib = base["peak_memory_mib"].get<double>();
+  const double peak_mib = capped["peak_memory_mib"].get<double>();
+  ::testing::Test::RecordProperty("base_mib", std::to_string(base_mib));
+  ::testing::Test::RecordProperty("peak_mib", std::to_string(peak_mib));
+  EXPECT_LE(peak_mib, base_mib + kPeakMargin * budget_mib) << "base " << base_mib << " MiB";
+}
+
 TEST(Budgets, PeakMemoryStaysWithinTheMemoryBudgetPlusMargin) {
   if (!kResidentSizesMeaningful) GTEST_SKIP() << "resident sizes are meaningless under AddressSanitizer";
-  constexpr double kMiB = 1024.0 * 1024.0;
   const nlohmann::json base = solve_cornell("budget_base", {"--max-links", "1"}, nullptr);
   std::string err;
   const nlohmann::json capped = solve_cornell("budget_memory", {"--max-memory", "24M"}, &err);
   EXPECT_NE(err.find("warning: --max-memory reached"), std::string::npos) << err;
-  EXPECT_TRUE(capped["memory_budget_reached"].get<bool>());
-  EXPECT_LE(capped["bytes"]["total"].get<double>(), 24 * kMiB);
-  const double base_mib = base["peak_memory_mib"].get<double>();
-  const double peak_mib = capped["peak_memory_mib"].get<double>();
-  RecordProperty("base_mib", std::to_string(base_mib));
-  RecordProperty("peak_mib", std::to_string(peak_mib));
-  EXPECT_LE(peak_mib, base_mib + kPeakMargin * 24) << "base " << base_mib << " MiB";
+  expect_peak_within_margin(base, capped, 24);
 }
 
 TEST(Budgets, ClassicalPeakMemoryOnAGlowingCubeStaysWithinTheBudgetPlusMargin) {
@@ -203,20 +209,13 @@ TEST(Budgets, ClassicalPeakMemoryOnAGlowingCubeStaysWithinTheBudgetPlusMargin) {
   // (at more bytes than a finished link), uncounted: 1.5 times the budget
   // over the base at 24 MiB, 2 times at 100 MiB.
   if (!kResidentSizesMeaningful) GTEST_SKIP() << "resident sizes are meaningless under AddressSanitizer";
-  constexpr double kMiB = 1024.0 * 1024.0;
   const auto dir = test::fresh_dir("budget_cube");
   test::write_glowing_cube(dir);
   const nlohmann::json base =
       solve_file(dir / "cube.obj", "budget_cube_base", {"--method", "classical", "--max-links", "1"}, nullptr);
   const nlohmann::json capped =
       solve_file(dir / "cube.obj", "budget_cube_capped", {"--method", "classical", "--max-memory", "16M"}, nullptr);
-  EXPECT_TRUE(capped["memory_budget_reached"].get<bool>());
-  EXPECT_LE(capped["bytes"]["total"].get<double>(), 16 * kMiB);
-  const double base_mib = base["peak_memory_mib"].get<double>();
-  const double peak_mib = capped["peak_memory_mib"].get<double>();
-  RecordProperty("base_mib", std::to_string(base_mib));
-  RecordProperty("peak_mib", std::to_string(peak_mib));
-  EXPECT_LE(peak_mib, base_mib + kPeakMargin * 16) << "base " << base_mib << " MiB";
+  expect_peak_within_margin(base, capped, 16);
 }
 
 std::size_t meminfo_total_bytes() {

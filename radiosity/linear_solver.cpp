@@ -990,36 +990,21 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
       return false;
     };
     std::vector<NodeId> to_split;
+    std::vector<OracleEdge> edges;
     for (NodeId leaf : g.leaves()) {
       if (misses_small_shooter(leaf) && splittable(r, leaf, s)) to_split.push_back(leaf);
       if (interpolation_doubtful(leaf) && splittable(r, leaf, s)) {
         to_split.push_back(leaf);
         continue;
       }
-      const auto& c = h.corners(leaf);
-      for (int k = 0; k < 3; ++k) {
-        if (h.is_boundary_edge(leaf, k)) continue;
-        // The graph leaf across: the same-level one (each pair once, from the
-        // smaller id), or a coarser one (the graph is restricted: one level
-        // up), which only this side sees. A finer side tests itself.
-        NodeId same_level = h.neighbor(leaf, k);
-        if (same_level == kNoNode && h.parent(leaf) != kNoNode) same_level = h.neighbor(h.parent(leaf), k);
-        if (same_level == kNoNode) continue;
-        const NodeId across = g.leaf_containing(same_level, h);
-        if (across == kNoNode || (across == same_level && h.level(across) == h.level(leaf) && across < leaf)) continue;
-        const VertexId v1 = c[k], v2 = c[(k + 1) % 3], v3 = c[(k + 2) % 3];
-        // Vertex 4: the corner of the leaf across farthest from the edge's line.
-        const Vec3 p1 = h.point(v1), along = h.point(v2) - p1;
-        VertexId v4 = kNoVertex;
-        double farthest = -1.0;
-        for (VertexId v : h.corners(across)) {
-          const double d = OpenMesh::cross(along, h.point(v) - p1).sqrnorm();
-          if (d > farthest) {
-            farthest = d;
-            v4 = v;
-          }
-        }
-        const std::array<int, 4> idx{g.index_of(v1), g.index_of(v2), g.index_of(v3), g.index_of(v4)};
+      edges.clear();
+      oracle_edges(g, h, leaf, edges);
+      for (const OracleEdge& e : edges) {
+        const NodeId across = e.right;
+        std::array<int, 4> idx{};
+        for (int i = 0; i < 4; ++i) idx[i] = g.index_of(e.vertex[i]);
+        const std::array<double, 4> w = edge_weights(h.point(e.vertex[0]), h.point(e.vertex[1]),
+                                                     h.point(e.vertex[2]), h.point(e.vertex[3]));
         // S's reflected power that linear interpolation misplaces across the
         // edge: half the second difference of its contribution, over both
         // triangles. It must be small against the emitted power whatever the
@@ -1029,13 +1014,15 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
         // vertex's value over its hat function: up to 2000 times the light's
         // power on a sub-pixel spot that the image-space test never splits
         // (docs/design.md §5, small lights; tests/test_small_lights.cpp).
-        const double misplaced = 0.5 * std::abs(own(idx[0]) + own(idx[1]) - own(idx[2]) - own(idx[3])) *
-                                 (model_.area(r, leaf) + model_.area(r, across));
+        double second_difference = 0.0;
+        for (int i = 0; i < 4; ++i) second_difference += w[i] * own(idx[i]);
+        const double misplaced = 0.5 * std::abs(second_difference) * (model_.area(r, leaf) + model_.area(r, across));
         const bool by_power = M_PI * misplaced >= kPowerTolerance * total_emitted_power_;
         // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
         const double pixels = node_importance(r, leaf) + node_importance(r, across);
         if (!by_power && pixels < options_.eps_pixel) continue;
         EdgeValues edge;
+        edge.weights = w;
         for (int i = 0; i < 4; ++i) {
           edge.own[i] = own(idx[i]);
           edge.total[i] = luminance(st.radiance[g.vertex(idx[i])]);

@@ -5,6 +5,67 @@
 
 namespace lhr {
 
+namespace {
+
+// Lines this close to parallel (sin² of their angle) have no useful crossing.
+constexpr double kParallelSin2 = 1e-6;
+// A crossing farther out than this along either segment (in units of its
+// length, 0 and 1 its ends) makes weights of several times the paper's: a
+// pair that badly shaped is left to the paper's formula.
+constexpr double kCrossingReach = 4.0;
+
+}  // namespace
+
+std::array<double, 4> edge_weights(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
+  constexpr std::array<double, 4> kPaper{1.0, 1.0, -1.0, -1.0};
+  // α a − β b = c, with a = p1 − p2, b = p3 − p4, c = p4 − p2, solved by
+  // least squares (exactly, for a planar pair).
+  const Vec3 a = p1 - p2, b = p3 - p4, c = p4 - p2;
+  const double aa = OpenMesh::dot(a, a), bb = OpenMesh::dot(b, b), ab = OpenMesh::dot(a, b);
+  const double ac = OpenMesh::dot(a, c), bc = OpenMesh::dot(b, c);
+  const double det = aa * bb - ab * ab;
+  if (!(det > kParallelSin2 * aa * bb)) return kPaper;
+  const double alpha = (bb * ac - ab * bc) / det;
+  const double beta = (ab * ac - aa * bc) / det;
+  const auto reachable = [](double t) { return t > -kCrossingReach && t < 1.0 + kCrossingReach; };
+  if (!reachable(alpha) || !reachable(beta)) return kPaper;
+  return {2.0 * alpha, 2.0 * (1.0 - alpha), -2.0 * beta, -2.0 * (1.0 - beta)};
+}
+
+void oracle_edges(const InteractionGraph& graph, const SurfaceHierarchy& receiver, NodeId leaf,
+                  std::vector<OracleEdge>& out) {
+  const auto& c = receiver.corners(leaf);
+  for (int k = 0; k < 3; ++k) {
+    if (receiver.is_boundary_edge(leaf, k)) continue;
+    // The graph leaf across: the same-level one (each pair once, from the
+    // smaller id), or a coarser one, which only this side sees. A finer side
+    // lists the pair itself.
+    NodeId same_level = receiver.neighbor(leaf, k);
+    if (same_level == kNoNode && receiver.parent(leaf) != kNoNode) {
+      same_level = receiver.neighbor(receiver.parent(leaf), k);
+    }
+    if (same_level == kNoNode) continue;
+    const NodeId across = graph.leaf_containing(same_level, receiver);
+    if (across == kNoNode || (across == same_level && receiver.level(across) == receiver.level(leaf) && across < leaf)) {
+      continue;
+    }
+    OracleEdge edge;
+    edge.left = leaf;
+    edge.right = across;
+    edge.vertex = {c[k], c[(k + 1) % 3], c[(k + 2) % 3], kNoVertex};
+    const Vec3 p1 = receiver.point(c[k]), along = receiver.point(c[(k + 1) % 3]) - p1;
+    double farthest = -1.0;
+    for (VertexId v : receiver.corners(across)) {
+      const double d = OpenMesh::cross(along, receiver.point(v) - p1).sqrnorm();
+      if (d > farthest) {
+        farthest = d;
+        edge.vertex[3] = v;
+      }
+    }
+    out.push_back(edge);
+  }
+}
+
 double ReceiverOracle::display_error(const EdgeValues& edge) const {
   double b_min = edge.total[0] - edge.own[0];
   for (int i = 1; i < 4; ++i) b_min = std::min(b_min, edge.total[i] - edge.own[i]);
@@ -12,7 +73,9 @@ double ReceiverOracle::display_error(const EdgeValues& edge) const {
   const auto shown = [&](double value) { return tone_.display(b_min + value); };
   const auto& b = edge.own;
   if (std::abs(edge.visibility_1 - edge.visibility_2) < vis_threshold_) {
-    return 0.5 * std::abs(shown(b[0]) + shown(b[1]) - shown(b[2]) - shown(b[3]));
+    double sum = 0.0;
+    for (int i = 0; i < 4; ++i) sum += edge.weights[i] * shown(b[i]);
+    return 0.5 * std::abs(sum);
   }
   const auto [lo, hi] = std::minmax_element(b.begin(), b.end());
   return shown(*hi) - shown(*lo);

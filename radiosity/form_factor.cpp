@@ -1,6 +1,7 @@
 #include "radiosity/form_factor.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -40,23 +41,23 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 // Sutherland–Hodgman against the half-space n·(p − x) ≥ 0: cosθx < 0 carries no energy,
 // and Lambert's formula holds only for a polygon wholly above the tangent plane.
-std::vector<Vec3> clip_above(std::span<const Vec3> polygon, const Vec3& x, const Vec3& n) {
-  std::vector<Vec3> out;
-  out.reserve(polygon.size() + 2);
+// Each input edge gives at most two output vertices; `out` holds 2 × size.
+std::size_t clip_above(std::span<const Vec3> polygon, const Vec3& x, const Vec3& n, Vec3* out) {
+  std::size_t count = 0;
   for (std::size_t i = 0; i < polygon.size(); ++i) {
     const Vec3& a = polygon[i];
     const Vec3& b = polygon[(i + 1) % polygon.size()];
     const double da = OpenMesh::dot(n, a - x);
     const double db = OpenMesh::dot(n, b - x);
-    if (da >= 0) out.push_back(a);
-    if ((da >= 0) != (db >= 0)) out.push_back(a + (da / (da - db)) * (b - a));
+    if (da >= 0) out[count++] = a;
+    if ((da >= 0) != (db >= 0)) out[count++] = a + (da / (da - db)) * (b - a);
   }
-  return out;
+  return count;
 }
 
 // Lambert: F = −1/(2π) Σ_edges β_i (n · (R_i × R_{i+1})) / |R_i × R_{i+1}|
 // for vertices counter-clockwise from the front (the minus makes front-facing positive).
-double contour_integral(const Vec3& x, const Vec3& n, const std::vector<Vec3>& polygon) {
+double contour_integral(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
   double sum = 0.0;
   for (std::size_t i = 0; i < polygon.size(); ++i) {
     const Vec3 a = polygon[i] - x;
@@ -81,18 +82,23 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
   if (!(twice_area > 0)) return 0.0;
   const Vec3 shooter_normal = area_normal / twice_area;
 
-  double size = 0.0;
-  for (const Vec3& p : polygon) size = std::max(size, (p - polygon[0]).norm());
+  double size2 = 0.0;
+  for (const Vec3& p : polygon) size2 = std::max(size2, (p - polygon[0]).sqrnorm());
+  const double size = std::sqrt(size2);
   const double tolerance = kSingularTolerance * size;
-
-  double nearest_edge = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    nearest_edge = std::min(nearest_edge, distance_to_segment(x, polygon[i], polygon[(i + 1) % polygon.size()]));
-  }
   const double height = OpenMesh::dot(shooter_normal, x - polygon[0]);
+  // Every edge lies within `size` of polygon[0]: from farther than twice
+  // that, x is farther than `size` (≫ tolerance) from each of them.
+  const auto near_an_edge = [&] {
+    if ((x - polygon[0]).sqrnorm() > 4.0 * size2) return false;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      if (distance_to_segment(x, polygon[i], polygon[(i + 1) % polygon.size()]) <= tolerance) return true;
+    }
+    return false;
+  };
 
   Vec3 eval_point = x;
-  if (std::abs(height) <= tolerance || nearest_edge <= tolerance) {
+  if (std::abs(height) <= tolerance || near_an_edge()) {
     // Singular configuration: take the limit along the approach direction,
     // projected into x's tangent plane so the path stays on the receiver.
     Vec3 d = approach ? *approach : shooter_normal;
@@ -111,9 +117,23 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
   }
   if (OpenMesh::dot(shooter_normal, eval_point - polygon[0]) <= 0.0) return 0.0;  // behind the shooter
 
-  const std::vector<Vec3> clipped = clip_above(polygon, eval_point, n);
-  if (clipped.size() < 3) return 0.0;
-  return std::clamp(contour_integral(eval_point, n, clipped), 0.0, 1.0);
+  // Wholly above x's tangent plane (the common case) the polygon is its own
+  // clip; otherwise clip into a buffer on the stack when it fits (a link's
+  // triangle always does), so the hot path allocates nothing.
+  const bool above = std::all_of(polygon.begin(), polygon.end(),
+                                 [&](const Vec3& p) { return OpenMesh::dot(n, p - eval_point) >= 0; });
+  if (above) return std::clamp(contour_integral(eval_point, n, polygon), 0.0, 1.0);
+  constexpr std::size_t kStackVertices = 16;
+  std::array<Vec3, kStackVertices> stack;
+  std::vector<Vec3> heap;
+  Vec3* buffer = stack.data();
+  if (2 * polygon.size() > kStackVertices) {
+    heap.resize(2 * polygon.size());
+    buffer = heap.data();
+  }
+  const std::size_t count = clip_above(polygon, eval_point, n, buffer);
+  if (count < 3) return 0.0;
+  return std::clamp(contour_integral(eval_point, n, std::span<const Vec3>(buffer, count)), 0.0, 1.0);
 }
 
 }  // namespace lhr

@@ -239,7 +239,7 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
       const std::size_t j = static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) -
                                                      cumulative.begin());
       const NodeId r = c.roots[std::min(j, c.roots.size() - 1)];
-      const TriangleSample ts = stratified_triangle_samples(1, sample_key(key, 4 + i)).front();
+      const TriangleSample ts = uniform_triangle_sample(sample_key(key, 4 + i));
       add_pair(receiver_vis[i % receiver_vis.size()],
                {at(model_.triangle(shooter.surface, r), ts), model_.normal(shooter.surface, r)});
     }

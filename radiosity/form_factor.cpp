@@ -57,19 +57,51 @@ std::size_t clip_above(std::span<const Vec3> polygon, const Vec3& x, const Vec3&
 
 // Lambert: F = −1/(2π) Σ_edges β_i (n · (R_i × R_{i+1})) / |R_i × R_{i+1}|
 // for vertices counter-clockwise from the front (the minus makes front-facing positive).
+// One edge's term β (n · (R_a × R_b)) / |R_a × R_b|. Swapping a and b negates
+// it exactly: the cross product's components change sign, its norm and the
+// dot product do not change (shared_edge_form_factors relies on this).
+double edge_term(const Vec3& x, const Vec3& n, const Vec3& from, const Vec3& to) {
+  const Vec3 a = from - x;
+  const Vec3 b = to - x;
+  const Vec3 c = OpenMesh::cross(a, b);
+  const double c_norm = c.norm();
+  // x collinear with the edge: β is 0 or the edge is degenerate; the term vanishes.
+  if (!(c_norm > 1e-300)) return 0.0;
+  const double beta = std::atan2(c_norm, OpenMesh::dot(a, b));
+  return beta * OpenMesh::dot(n, c) / c_norm;
+}
+
 double contour_integral(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
   double sum = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec3 a = polygon[i] - x;
-    const Vec3 b = polygon[(i + 1) % polygon.size()] - x;
-    const Vec3 c = OpenMesh::cross(a, b);
-    const double c_norm = c.norm();
-    // x collinear with the edge: β is 0 or the edge is degenerate; the term vanishes.
-    if (!(c_norm > 1e-300)) continue;
-    const double beta = std::atan2(c_norm, OpenMesh::dot(a, b));
-    sum += beta * OpenMesh::dot(n, c) / c_norm;
-  }
+  for (std::size_t i = 0; i < polygon.size(); ++i) sum += edge_term(x, n, polygon[i], polygon[(i + 1) % polygon.size()]);
   return -sum / (2.0 * M_PI);
+}
+
+// Where point_polygon_form_factor's answer for a triangle is its plain
+// contour integral from x, zero, or neither (a limit or a clip is needed).
+enum class TriangleView { kZero, kContour, kGeneral };
+
+TriangleView view_of(const Vec3& x, const Vec3& n, const std::array<Vec3, 3>& t) {
+  const std::span<const Vec3> polygon(t.data(), 3);
+  const Vec3 area_normal = newell_normal(polygon);
+  const double twice_area = area_normal.norm();
+  if (!(twice_area > 0)) return TriangleView::kZero;
+  const Vec3 shooter_normal = area_normal / twice_area;
+  double size2 = 0.0;
+  for (const Vec3& p : polygon) size2 = std::max(size2, (p - polygon[0]).sqrnorm());
+  const double tolerance = kSingularTolerance * std::sqrt(size2);
+  const double height = OpenMesh::dot(shooter_normal, x - polygon[0]);
+  if (std::abs(height) <= tolerance) return TriangleView::kGeneral;
+  if ((x - polygon[0]).sqrnorm() <= 4.0 * size2) {
+    for (int i = 0; i < 3; ++i) {
+      if (distance_to_segment(x, t[i], t[(i + 1) % 3]) <= tolerance) return TriangleView::kGeneral;
+    }
+  }
+  if (height <= 0.0) return TriangleView::kZero;
+  for (const Vec3& p : t) {
+    if (!(OpenMesh::dot(n, p - x) >= 0)) return TriangleView::kGeneral;
+  }
+  return TriangleView::kContour;
 }
 
 }  // namespace
@@ -134,6 +166,47 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
   const std::size_t count = clip_above(polygon, eval_point, n, buffer);
   if (count < 3) return 0.0;
   return std::clamp(contour_integral(eval_point, n, std::span<const Vec3>(buffer, count)), 0.0, 1.0);
+}
+
+void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std::array<Vec3, 3>> triangles,
+                              std::span<const std::array<std::int32_t, 3>> corner_edge, const Vec3* approach,
+                              std::vector<double>& out) {
+  // Terms of the edges seen so far in this call, valid where their stamp is
+  // this call's: nothing to clear between calls.
+  thread_local std::vector<double> term;
+  thread_local std::vector<std::uint32_t> stamp;
+  thread_local std::uint32_t call = 0;
+  if (++call == 0) {
+    std::fill(stamp.begin(), stamp.end(), 0U);
+    call = 1;
+  }
+  out.resize(triangles.size());
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    const auto& t = triangles[j];
+    const TriangleView view = view_of(x, n, t);
+    if (view != TriangleView::kContour) {
+      out[j] = view == TriangleView::kZero ? 0.0 : point_triangle_form_factor(x, n, t, approach);
+      continue;
+    }
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t code = corner_edge[j][k];
+      const auto id = static_cast<std::size_t>(code >> 1);
+      const bool against = (code & 1) != 0;
+      if (id >= term.size()) {
+        term.resize(id + 1);
+        stamp.resize(id + 1, 0U);
+      }
+      if (stamp[id] != call) {
+        const Vec3& from = t[k];
+        const Vec3& to = t[(k + 1) % 3];
+        term[id] = against ? edge_term(x, n, to, from) : edge_term(x, n, from, to);
+        stamp[id] = call;
+      }
+      sum += against ? -term[id] : term[id];
+    }
+    out[j] = std::clamp(-sum / (2.0 * M_PI), 0.0, 1.0);
+  }
 }
 
 }  // namespace lhr

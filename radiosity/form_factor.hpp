@@ -3,7 +3,9 @@
 // collocation": Σ_l F^l(x,j) is the exact point-to-triangle form factor).
 
 #include <array>
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "mesh/types.hpp"
 
@@ -26,5 +28,18 @@ inline double point_triangle_form_factor(const Vec3& x, const Vec3& n, const std
                                          const Vec3* approach = nullptr) {
   return point_polygon_form_factor(x, n, std::span<const Vec3>(triangle.data(), 3), approach);
 }
+
+// The form factors of triangles that share edges (a cluster of one
+// surface's initial triangles) from x, each exactly as
+// point_triangle_form_factor gives it. Lambert's term of an edge seen along
+// it is minus its term seen against it, so each shared edge is integrated
+// once (per thread, a table as long as the largest edge id seen): corner_edge[j][k]
+// names the edge from corner k to corner k+1 of triangle j as 2·id, or
+// 2·id + 1 where the triangle runs against the edge's own direction (any
+// direction, the same for every triangle using it). Triangles that
+// need clipping or a limit (x on or near them) take the general path.
+void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std::array<Vec3, 3>> triangles,
+                              std::span<const std::array<std::int32_t, 3>> corner_edge, const Vec3* approach,
+                              std::vector<double>& out);
 
 }  // namespace lhr

@@ -114,6 +114,7 @@ LinearSolver::LinearSolver(SceneModel& model, LinearOptions options)
     SurfaceState& st = surfaces_[s];
     st.root_exposure = root_exposure(model_, s);
     st.clusters = build_root_clusters(model_, s, st.root_exposure);
+    st.root_edges = root_corner_edges(model_.hierarchy(s));
     st.cluster_radiance.assign(st.clusters.size(), m.emission);
     sync_vertices(s);
   }
@@ -550,7 +551,10 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
       }
       return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays, shape_in);
     }
-    return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in);
+    std::vector<std::array<std::int32_t, 3>> edges;
+    edges.reserve(c.roots.size());
+    for (NodeId root : c.roots) edges.push_back(st.root_edges[root]);
+    return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in, edges);
   }
   return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 
 #include "radiosity/sampling.hpp"
 
@@ -82,6 +83,20 @@ std::vector<double> root_exposure(const SceneModel& model, int s) {
     exposure[r] = 1.0 - static_cast<double>(closed) / static_cast<double>(points.size());
   });
   return exposure;
+}
+
+std::vector<std::array<std::int32_t, 3>> root_corner_edges(const SurfaceHierarchy& h) {
+  const TriMesh& mesh = h.mesh();
+  std::vector<std::array<std::int32_t, 3>> out(h.num_roots());
+  for (std::size_t f = 0; f < h.num_roots(); ++f) {
+    const auto& c = h.corners(h.root(static_cast<int>(f)));
+    for (int k = 0; k < 3; ++k) {
+      const auto he = mesh.find_halfedge(OpenMesh::VertexHandle(c[k]), OpenMesh::VertexHandle(c[(k + 1) % 3]));
+      if (!he.is_valid()) throw std::logic_error("root_corner_edges: a root's edge is not in the initial mesh");
+      out[f][k] = 2 * mesh.edge_handle(he).idx() + (he.idx() & 1);
+    }
+  }
+  return out;
 }
 
 }  // namespace lhr

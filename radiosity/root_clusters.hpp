@@ -4,6 +4,7 @@
 // whole surface, so a shooter starts as one element and opens up only as far
 // as the shooter oracle asks.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -26,6 +27,12 @@ struct RootCluster {
 // `leaf_roots` roots open directly onto their roots.
 std::vector<RootCluster> build_root_clusters(const SceneModel& model, int surface,
                                             const std::vector<double>& root_exposure, std::size_t leaf_roots = 4);
+
+// Per root of a surface: its edges, corner k to corner k+1, as
+// shared_edge_form_factors names them (2·edge, + 1 against the edge's own
+// half-edge direction in the initial mesh), so a cluster link integrates
+// each inner edge once.
+std::vector<std::array<std::int32_t, 3>> root_corner_edges(const SurfaceHierarchy& h);
 
 // Per root of a surface: the fraction of it that is open to the scene. A
 // point is closed off when every one of a few cosine-distributed rays from it

@@ -39,6 +39,16 @@ std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key
   return samples;
 }
 
+TriangleSample uniform_triangle_sample(std::uint64_t key) {
+  double s = unit_double(sample_key(key, 0, 1));
+  double t = unit_double(sample_key(key, 0, 2));
+  if (s + t > 1.0) {
+    s = 1.0 - s;
+    t = 1.0 - t;
+  }
+  return {{1.0 - s - t, s, t}};
+}
+
 std::vector<Vec3> hemisphere_probe_directions(const Vec3& n) {
   constexpr int kRings = 4, kSectors = 8;
   const Vec3 t =

@@ -35,6 +35,10 @@ struct TriangleSample {
 // each, by the key.
 std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key);
 
+// One uniform sample, stratified_triangle_samples(1, key)'s, without the
+// vector (a shadow ray of a cluster link draws one per ray).
+TriangleSample uniform_triangle_sample(std::uint64_t key);
+
 inline Vec3 at(const std::array<Vec3, 3>& t, const TriangleSample& s) {
   return s.barycentric[0] * t[0] + s.barycentric[1] * t[1] + s.barycentric[2] * t[2];
 }

@@ -96,7 +96,7 @@ double visible_fraction(const ReceiverPoint& receiver, std::span<const std::arra
     const std::size_t j = std::min<std::size_t>(
         static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()),
         triangles.size() - 1);
-    const TriangleSample ts = stratified_triangle_samples(1, sample_key(sampling.key, 2, i)).front();
+    const TriangleSample ts = uniform_triangle_sample(sample_key(sampling.key, 2, i));
     const Vec3 y = at(triangles[j], ts), ny = unit_normal(triangles[j]);
     if (kernel(origin, receiver.normal, y, ny) > 0) {
       segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
@@ -287,15 +287,24 @@ double shape_factor(const std::vector<double>& weighing, const std::vector<doubl
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
-                                        const ShooterShape* shape) {
+                                        const ShooterShape* shape,
+                                        std::span<const std::array<std::int32_t, 3>> corner_edges) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   std::vector<double> cumulative;
-  cumulative.reserve(shooter.size());
+  if (!corner_edges.empty()) {
+    assert(corner_edges.size() == shooter.size());
+    shared_edge_form_factors(receiver.x, receiver.normal, shooter, corner_edges, approach, cumulative);
+  } else {
+    cumulative.resize(shooter.size());
+    for (std::size_t j = 0; j < shooter.size(); ++j) {
+      cumulative[j] = point_triangle_form_factor(receiver.x, receiver.normal, shooter[j], approach);
+    }
+  }
   double ff = 0.0;
-  for (const auto& t : shooter) {
-    ff += point_triangle_form_factor(receiver.x, receiver.normal, t, approach);
-    cumulative.push_back(ff);
+  for (double& f : cumulative) {
+    ff += f;
+    f = ff;
   }
   if (!(ff > 0.0) || shooter.empty()) return out;
   out.unoccluded = static_cast<float>(ff);

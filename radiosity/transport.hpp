@@ -60,11 +60,14 @@ struct ShooterShape {
 // Constant-basis shooter made of several triangles (a root cluster): f[0] is
 // the exact form factor of all of them times the visible fraction of shadow
 // rays drawn in proportion to each triangle's share of it (times the shape
-// factor when `shape` is given).
+// factor when `shape` is given). `corner_edges`, when given, names the
+// triangles' edges (shared_edge_form_factors): the same form factors, each
+// shared edge integrated once.
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
-                                        const ShooterShape* shape = nullptr);
+                                        const ShooterShape* shape = nullptr,
+                                        std::span<const std::array<std::int32_t, 3>> corner_edges = {});
 
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
 // form factor of its input polygons times the visible fraction of shadow rays

@@ -4,9 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
+#include "mesh/hierarchy.hpp"
 #include "radiosity/form_factor.hpp"
+#include "radiosity/root_clusters.hpp"
+#include "radiosity/sampling.hpp"
 
 namespace lhr {
 namespace {
@@ -108,6 +112,64 @@ TEST(FormFactor, HemisphereCoveringPolygonApproachesOne) {
   const double f = point_polygon_form_factor(Vec3(0, 0, 0), Vec3(0, 0, 1), big);
   EXPECT_GT(f, 0.9999);
   EXPECT_LE(f, 1.0);
+}
+
+// A cluster link integrates each shared edge once; every triangle's value
+// must be what it gets alone, to the bit, wherever the receiver is: far, on
+// the patch's vertices and edges, on a face's plane, with the patch half
+// below its horizon.
+TEST(FormFactor, SharedEdgesGiveEachTriangleItsOwnFormFactorExactly) {
+  constexpr int kCells = 6;
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> vh;
+  for (int j = 0; j <= kCells; ++j) {
+    for (int i = 0; i <= kCells; ++i) vh.push_back(mesh.add_vertex(Vec3(i, j, 0.3 * std::sin(i) * std::cos(j))));
+  }
+  for (int j = 0; j < kCells; ++j) {
+    for (int i = 0; i < kCells; ++i) {
+      const auto a = vh[j * (kCells + 1) + i], b = vh[j * (kCells + 1) + i + 1];
+      const auto c = vh[(j + 1) * (kCells + 1) + i + 1], d = vh[(j + 1) * (kCells + 1) + i];
+      mesh.add_face(a, b, c);
+      mesh.add_face(a, c, d);
+    }
+  }
+  const SurfaceHierarchy h(std::move(mesh));
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (std::size_t f = 0; f < h.num_roots(); ++f) {
+    const auto& c = h.corners(h.root(static_cast<int>(f)));
+    triangles.push_back({h.point(c[0]), h.point(c[1]), h.point(c[2])});
+  }
+  const auto edges = root_corner_edges(h);
+  std::vector<std::pair<Vec3, Vec3>> receivers;
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 x(3 + 5 * u(random), 3 + 5 * u(random), 2.0 * u(random) + 0.5);
+    receivers.push_back({x, Vec3(u(random), u(random), -1.0).normalized()});
+  }
+  for (const auto& t : triangles) {
+    receivers.push_back({t[0], Vec3(0.1, 0.2, 1).normalized()});                  // on a vertex
+    receivers.push_back({0.5 * (t[0] + t[1]), Vec3(0, 0, 1)});                    // on an edge
+    receivers.push_back({(t[0] + t[1] + t[2]) / 3.0 + Vec3(0, 0, 1e-3), Vec3(1, 0, 0)});  // patch across the horizon
+  }
+  const Vec3 approach(0.3, 0.1, 0.0);
+  std::vector<double> shared;
+  for (const auto& [x, n] : receivers) {
+    shared_edge_form_factors(x, n, triangles, edges, &approach, shared);
+    ASSERT_EQ(shared.size(), triangles.size());
+    for (std::size_t j = 0; j < triangles.size(); ++j) {
+      EXPECT_EQ(shared[j], point_triangle_form_factor(x, n, triangles[j], &approach)) << "triangle " << j;
+    }
+  }
+}
+
+TEST(Sampling, OneUniformSampleIsTheStratifiedPatternOfOne) {
+  for (std::uint64_t key = 0; key < 1000; ++key) {
+    const auto one = uniform_triangle_sample(sample_key(key, 2));
+    const auto pattern = stratified_triangle_samples(1, sample_key(key, 2));
+    ASSERT_EQ(pattern.size(), 1U);
+    EXPECT_EQ(one.barycentric, pattern.front().barycentric);
+  }
 }
 
 }  // namespace

@@ -732,14 +732,17 @@ void LinearSolver::update_importance() {
     st.pixels[n] += 1.0;
     std::array<double, 3> b = barycentric(p, model_.triangle(sample.surface, n));
     while (!h.is_leaf(n)) {
-      // Child c < 3 is the corner region where weight c exceeds ½.
+      // Child c < 3 is the corner region where weight c exceeds ½. A
+      // child's corners are its parent's corners and edge midpoints
+      // (SurfaceHierarchy::corners), so its weights follow from the
+      // parent's: 2b with 1 taken from corner c, or 1 − 2b in the centre.
       int c = 3;
       for (int i = 0; i < 3; ++i) {
         if (b[i] >= 0.5) c = i;
       }
       n = h.child(n, c);
       st.pixels[n] += 1.0;
-      b = barycentric(p, model_.triangle(sample.surface, n));
+      for (int i = 0; i < 3; ++i) b[i] = c == 3 ? 1.0 - 2.0 * b[i] : 2.0 * b[i] - (i == c ? 1.0 : 0.0);
     }
     const auto& corners = h.corners(n);
     double lum = 0.0;
@@ -764,7 +767,14 @@ void LinearSolver::carry_importance_back() {
   // ρ F^l of it at the shooter's element (the same links, read backwards);
   // one bounce per iteration, from the previous iteration's importance, so
   // it converges with the radiance (ρ Σ F < 1).
-  for (int s = 0; s < model_.num_surfaces(); ++s) surfaces_[s].deposit.assign(model_.hierarchy(s).num_nodes(), 0.0);
+  // What cluster links carry is summed per cluster first and shared out to
+  // the cluster's roots by area once, not once per link: a top cluster has
+  // every root of its surface.
+  std::vector<std::vector<double>> cluster_deposit(model_.num_surfaces());
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    surfaces_[s].deposit.assign(model_.hierarchy(s).num_nodes(), 0.0);
+    cluster_deposit[s].assign(surfaces_[s].clusters.size(), 0.0);
+  }
   for (std::size_t gi = 0; gi < graph_importance_.size() && gi < graphs_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
     const int s = g.shooter_surface();
@@ -780,9 +790,17 @@ void LinearSolver::carry_importance_back() {
           shooter.deposit[l.shooter] += amount;
           continue;
         }
-        const RootCluster& c = shooter.clusters[cluster_index(l.shooter)];
-        for (NodeId root : c.roots) shooter.deposit[root] += amount * model_.area(s, root) / c.area;
+        cluster_deposit[s][cluster_index(l.shooter)] += amount;
       }
+    }
+  }
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    SurfaceState& st = surfaces_[s];
+    for (std::size_t ci = 0; ci < st.clusters.size(); ++ci) {
+      const double amount = cluster_deposit[s][ci];
+      if (!(amount > 0)) continue;
+      const RootCluster& c = st.clusters[ci];
+      for (NodeId root : c.roots) st.deposit[root] += amount * model_.area(s, root) / c.area;
     }
   }
   // A node's importance: its pixels, what was deposited on it or below it,

@@ -4,9 +4,13 @@
 // next-event estimation on emitters (triangles picked in proportion to their
 // power, points uniform by area), cosine-weighted bounces, the two combined
 // by multiple importance sampling, and Russian roulette. It builds its own
-// Embree scene from the input polygons and shares nothing with the radiosity
-// solvers but the camera model, so it is an independent check of them,
-// aligned pixel for pixel with the Gouraud view.
+// Embree scene from the input polygons and shares no transport code with the
+// radiosity solvers, so it is an independent check of them, aligned pixel for
+// pixel with the Gouraud view. What it does share: the camera model, the
+// Rec. 709 luminance (radiosity/tone_map.hpp), the hash its random numbers
+// come from, and the probe directions that tell a point inside a closed
+// object (radiosity/sampling.hpp), so that a vertex on a contact line takes
+// its value from the same side in both.
 
 #include <cstdint>
 #include <functional>

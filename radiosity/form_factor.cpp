@@ -77,48 +77,31 @@ double contour_integral(const Vec3& x, const Vec3& n, std::span<const Vec3> poly
   return -sum / (2.0 * M_PI);
 }
 
-// Where point_polygon_form_factor's answer for a triangle is its plain
-// contour integral from x, zero, or neither (a limit or a clip is needed).
-enum class TriangleView { kZero, kContour, kGeneral };
+// What decides how a polygon's form factor from x is taken: its unit
+// normal and size, x's height over its plane, and whether x lies on its
+// plane or next to an edge, where the contour integrand is singular and a
+// limit is taken instead (point_polygon_form_factor). One function, so the
+// shared-edge path decides exactly as the general one does.
+struct PolygonFrame {
+  bool degenerate = true;  // zero area: no form factor
+  Vec3 normal{0, 0, 0};
+  double size = 0.0;
+  double height = 0.0;
+  bool singular = false;
+};
 
-TriangleView view_of(const Vec3& x, const Vec3& n, const std::array<Vec3, 3>& t) {
-  const std::span<const Vec3> polygon(t.data(), 3);
+PolygonFrame frame_of(const Vec3& x, std::span<const Vec3> polygon) {
+  PolygonFrame f;
   const Vec3 area_normal = newell_normal(polygon);
   const double twice_area = area_normal.norm();
-  if (!(twice_area > 0)) return TriangleView::kZero;
-  const Vec3 shooter_normal = area_normal / twice_area;
+  if (!(twice_area > 0)) return f;
+  f.degenerate = false;
+  f.normal = area_normal / twice_area;
   double size2 = 0.0;
   for (const Vec3& p : polygon) size2 = std::max(size2, (p - polygon[0]).sqrnorm());
-  const double tolerance = kSingularTolerance * std::sqrt(size2);
-  const double height = OpenMesh::dot(shooter_normal, x - polygon[0]);
-  if (std::abs(height) <= tolerance) return TriangleView::kGeneral;
-  if ((x - polygon[0]).sqrnorm() <= 4.0 * size2) {
-    for (int i = 0; i < 3; ++i) {
-      if (distance_to_segment(x, t[i], t[(i + 1) % 3]) <= tolerance) return TriangleView::kGeneral;
-    }
-  }
-  if (height <= 0.0) return TriangleView::kZero;
-  for (const Vec3& p : t) {
-    if (!(OpenMesh::dot(n, p - x) >= 0)) return TriangleView::kGeneral;
-  }
-  return TriangleView::kContour;
-}
-
-}  // namespace
-
-double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon,
-                                 const Vec3* approach) {
-  if (polygon.size() < 3) return 0.0;
-  const Vec3 area_normal = newell_normal(polygon);
-  const double twice_area = area_normal.norm();
-  if (!(twice_area > 0)) return 0.0;
-  const Vec3 shooter_normal = area_normal / twice_area;
-
-  double size2 = 0.0;
-  for (const Vec3& p : polygon) size2 = std::max(size2, (p - polygon[0]).sqrnorm());
-  const double size = std::sqrt(size2);
-  const double tolerance = kSingularTolerance * size;
-  const double height = OpenMesh::dot(shooter_normal, x - polygon[0]);
+  f.size = std::sqrt(size2);
+  const double tolerance = kSingularTolerance * f.size;
+  f.height = OpenMesh::dot(f.normal, x - polygon[0]);
   // Every edge lies within `size` of polygon[0]: from farther than twice
   // that, x is farther than `size` (≫ tolerance) from each of them.
   const auto near_an_edge = [&] {
@@ -128,9 +111,40 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
     }
     return false;
   };
+  f.singular = std::abs(f.height) <= tolerance || near_an_edge();
+  return f;
+}
+
+// Wholly above x's tangent plane: the polygon is its own clip.
+bool wholly_above(std::span<const Vec3> polygon, const Vec3& x, const Vec3& n) {
+  return std::all_of(polygon.begin(), polygon.end(), [&](const Vec3& p) { return OpenMesh::dot(n, p - x) >= 0; });
+}
+
+// Where point_polygon_form_factor's answer for a triangle is its plain
+// contour integral from x, zero, or neither (a limit or a clip is needed).
+enum class TriangleView { kZero, kContour, kGeneral };
+
+TriangleView view_of(const Vec3& x, const Vec3& n, const std::array<Vec3, 3>& t) {
+  const std::span<const Vec3> polygon(t.data(), 3);
+  const PolygonFrame f = frame_of(x, polygon);
+  if (f.degenerate) return TriangleView::kZero;
+  if (f.singular) return TriangleView::kGeneral;
+  if (f.height <= 0.0) return TriangleView::kZero;
+  return wholly_above(polygon, x, n) ? TriangleView::kContour : TriangleView::kGeneral;
+}
+
+}  // namespace
+
+double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon,
+                                 const Vec3* approach) {
+  if (polygon.size() < 3) return 0.0;
+  const PolygonFrame frame = frame_of(x, polygon);
+  if (frame.degenerate) return 0.0;
+  const Vec3& shooter_normal = frame.normal;
+  const double size = frame.size;
 
   Vec3 eval_point = x;
-  if (std::abs(height) <= tolerance || near_an_edge()) {
+  if (frame.singular) {
     // Singular configuration: take the limit along the approach direction,
     // projected into x's tangent plane so the path stays on the receiver.
     Vec3 d = approach ? *approach : shooter_normal;
@@ -152,9 +166,7 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
   // Wholly above x's tangent plane (the common case) the polygon is its own
   // clip; otherwise clip into a buffer on the stack when it fits (a link's
   // triangle always does), so the hot path allocates nothing.
-  const bool above = std::all_of(polygon.begin(), polygon.end(),
-                                 [&](const Vec3& p) { return OpenMesh::dot(n, p - eval_point) >= 0; });
-  if (above) return std::clamp(contour_integral(eval_point, n, polygon), 0.0, 1.0);
+  if (wholly_above(polygon, eval_point, n)) return std::clamp(contour_integral(eval_point, n, polygon), 0.0, 1.0);
   constexpr std::size_t kStackVertices = 16;
   std::array<Vec3, kStackVertices> stack;
   std::vector<Vec3> heap;

@@ -221,4 +221,27 @@ void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std:
   }
 }
 
+std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Vec3& plane_normal,
+                                          std::span<const Vec3> points,
+                                          std::span<const std::array<std::int32_t, 2>> outline) {
+  // The region's plane clears x by this much of its size: far above the
+  // triangles' own singular tolerance, which is smaller than it for each.
+  constexpr double kClearOfPlane = 1e-6;
+  if (outline.empty()) return std::nullopt;
+  const Vec3& first = points[static_cast<std::size_t>(outline.front()[0])];
+  double size2 = 0.0;
+  for (const auto& e : outline) {
+    const Vec3& p = points[static_cast<std::size_t>(e[0])];
+    if (OpenMesh::dot(n, p - x) < 0.0) return std::nullopt;
+    size2 = std::max(size2, (p - first).sqrnorm());
+  }
+  // Twice the largest distance from `first` bounds the region's diameter.
+  if (!(OpenMesh::dot(plane_normal, x - first) > kClearOfPlane * 2.0 * std::sqrt(size2))) return std::nullopt;
+  double sum = 0.0;
+  for (const auto& e : outline) {
+    sum += edge_term(x, n, points[static_cast<std::size_t>(e[0])], points[static_cast<std::size_t>(e[1])]);
+  }
+  return std::clamp(-sum / (2.0 * M_PI), 0.0, 1.0);
+}
+
 }  // namespace lhr

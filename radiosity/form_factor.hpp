@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -41,5 +42,18 @@ inline double point_triangle_form_factor(const Vec3& x, const Vec3& n, const std
 void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std::array<Vec3, 3>> triangles,
                               std::span<const std::array<std::int32_t, 3>> corner_edge, const Vec3* approach,
                               std::vector<double>& out);
+
+// Form factor from x of a planar region given only its outline: edges
+// (indices into `points`) running counter-clockwise around it seen from its
+// front, in any order, holes included. Lambert's contour integral over the
+// outline is the sum of the plain contour integrals of any triangulation of
+// the region, every inner edge cancelling (docs/design.md, "Cluster
+// outlines"). nullopt where some triangle would need more than its plain
+// integral: x within a millionth of the region's size of its plane or
+// behind it (a limit), or an outline point below x's tangent plane (a clip;
+// the region lies in its outline's convex hull, so above it nothing does).
+std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Vec3& plane_normal,
+                                          std::span<const Vec3> points,
+                                          std::span<const std::array<std::int32_t, 2>> outline);
 
 }  // namespace lhr

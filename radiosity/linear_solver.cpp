@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -115,6 +116,7 @@ LinearSolver::LinearSolver(SceneModel& model, LinearOptions options)
     st.root_exposure = root_exposure(model_, s);
     st.clusters = build_root_clusters(model_, s, st.root_exposure);
     st.root_edges = root_corner_edges(model_.hierarchy(s));
+    if (model_.scene().surfaces[s].planar) st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters, st.root_edges);
     st.cluster_radiance.assign(st.clusters.size(), m.emission);
     sync_vertices(s);
   }
@@ -550,6 +552,15 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
         for (int i : polygon) polygons.back().push_back(shooter_surface.points[i]);
       }
       return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays, shape_in);
+    }
+    if (shooter_surface.planar && !st.outlines.start.empty()) {
+      // docs/design.md, "Cluster outlines": the exact form factor from the
+      // outline, the shadow rays drawn as for a whole surface.
+      const TriMesh& mesh = model_.hierarchy(s).mesh();
+      const std::span<const Vec3> points(mesh.points(), mesh.n_vertices());
+      const std::optional<double> ff =
+          outline_form_factor(point.x, point.normal, c.normal, points, st.outlines.of(cluster_index(shooter)));
+      if (ff) return planar_shooter_transport(point, *ff, triangles, model_.rays(), sampling, rays, shape_in, true);
     }
     std::vector<std::array<std::int32_t, 3>> edges;
     edges.reserve(c.roots.size());
@@ -1181,6 +1192,9 @@ void LinearSolver::collect_stats() {
     stats_.bytes_geometry += h.geometry_bytes();
     stats_.bytes_hierarchy += h.hierarchy_bytes();
     const SurfaceState& st = surfaces_[s];
+    // The shooters above the roots: clusters, the roots' edge codes and the outlines.
+    stats_.bytes_hierarchy += st.root_edges.capacity() * sizeof(st.root_edges[0]) + st.outlines.bytes();
+    for (const RootCluster& c : st.clusters) stats_.bytes_hierarchy += sizeof(RootCluster) + c.roots.capacity() * sizeof(NodeId);
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +
                            st.shooter.corners.capacity() * sizeof(st.shooter.corners[0]) +

@@ -159,6 +159,7 @@ class LinearSolver {
     std::vector<std::uint8_t> hidden;
     std::vector<RootCluster> clusters;
     std::vector<std::array<std::int32_t, 3>> root_edges;  // root_corner_edges
+    ClusterOutlines outlines;                              // planar surfaces only
     std::vector<double> root_exposure;  // per root: its fraction open to the scene
     std::vector<Rgb> cluster_radiance;  // mean over each cluster
     // What each node shoots with and how far that is from the radiance it

@@ -99,4 +99,66 @@ std::vector<std::array<std::int32_t, 3>> root_corner_edges(const SurfaceHierarch
   return out;
 }
 
+ClusterOutlines cluster_outlines(const SurfaceHierarchy& h, const std::vector<RootCluster>& clusters,
+                                 const std::vector<std::array<std::int32_t, 3>>& corner_edges,
+                                 std::size_t min_roots) {
+  // An outline edge with its edge id, sorted by id: the two copies of an
+  // edge two parts share meet in the merge and both go.
+  struct Edge {
+    std::int32_t id;
+    std::array<VertexId, 2> ends;
+  };
+  std::vector<std::vector<Edge>> outline(clusters.size());
+  const auto merge = [](const std::vector<Edge>& a, const std::vector<Edge>& b) {
+    std::vector<Edge> out;
+    out.reserve(a.size() + b.size());
+    std::size_t i = 0, j = 0;
+    while (i < a.size() || j < b.size()) {
+      if (j == b.size() || (i < a.size() && a[i].id < b[j].id)) {
+        out.push_back(a[i++]);
+      } else if (i == a.size() || b[j].id < a[i].id) {
+        out.push_back(b[j++]);
+      } else {
+        ++i;
+        ++j;
+      }
+    }
+    return out;
+  };
+  // Children come after their parent, so from the back every child is done
+  // before its parent needs it.
+  for (std::size_t c = clusters.size(); c-- > 0;) {
+    const RootCluster& cluster = clusters[c];
+    if (cluster.first_child >= 0) {
+      const auto left = static_cast<std::size_t>(cluster.first_child);
+      outline[c] = merge(outline[left], outline[left + 1]);
+      if (clusters[left].roots.size() < min_roots) outline[left] = {};
+      if (clusters[left + 1].roots.size() < min_roots) outline[left + 1] = {};
+      continue;
+    }
+    std::vector<Edge> all;
+    for (NodeId r : cluster.roots) {
+      const auto& corners = h.corners(r);
+      for (int k = 0; k < 3; ++k) all.push_back({corner_edges[r][k] >> 1, {corners[k], corners[(k + 1) % 3]}});
+    }
+    std::sort(all.begin(), all.end(), [](const Edge& a, const Edge& b) { return a.id < b.id; });
+    for (std::size_t i = 0; i < all.size();) {
+      std::size_t j = i;
+      while (j < all.size() && all[j].id == all[i].id) ++j;
+      if (j - i == 1) outline[c].push_back(all[i]);
+      i = j;
+    }
+  }
+  ClusterOutlines out;
+  out.start.reserve(clusters.size() + 1);
+  out.start.push_back(0);
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    if (clusters[c].roots.size() >= min_roots) {
+      for (const Edge& e : outline[c]) out.edges.push_back(e.ends);
+    }
+    out.start.push_back(static_cast<std::uint32_t>(out.edges.size()));
+  }
+  return out;
+}
+
 }  // namespace lhr

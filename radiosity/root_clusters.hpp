@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "radiosity/scene_model.hpp"
@@ -33,6 +34,27 @@ std::vector<RootCluster> build_root_clusters(const SceneModel& model, int surfac
 // half-edge direction in the initial mesh), so a cluster link integrates
 // each inner edge once.
 std::vector<std::array<std::int32_t, 3>> root_corner_edges(const SurfaceHierarchy& h);
+
+// Each cluster's outline: the edges of its roots that no other root of it
+// shares, as initial-mesh vertex pairs in their root's counter-clockwise
+// direction. On a planar surface the contour integral over it is the form
+// factor of the whole cluster (outline_form_factor), so a far cluster's
+// form factor costs its outline, not its roots. Clusters of fewer than
+// `min_roots` roots, where that saves little, keep an empty one.
+struct ClusterOutlines {
+  std::vector<std::uint32_t> start;  // per cluster, then one past the last
+  std::vector<std::array<VertexId, 2>> edges;
+  std::span<const std::array<VertexId, 2>> of(std::size_t cluster) const {
+    return std::span<const std::array<VertexId, 2>>(edges).subspan(start[cluster], start[cluster + 1] - start[cluster]);
+  }
+  std::size_t bytes() const { return start.capacity() * sizeof(start[0]) + edges.capacity() * sizeof(edges[0]); }
+};
+
+// From root_corner_edges' codes: an outline is the symmetric difference of
+// its children's, so the tree costs the sum of its outlines' lengths.
+ClusterOutlines cluster_outlines(const SurfaceHierarchy& h, const std::vector<RootCluster>& clusters,
+                                 const std::vector<std::array<std::int32_t, 3>>& corner_edges,
+                                 std::size_t min_roots = 16);
 
 // Per root of a surface: the fraction of it that is open to the scene. A
 // point is closed off when every one of a few cosine-distributed rays from it

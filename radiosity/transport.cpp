@@ -323,10 +323,18 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
                                         std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape) {
-  TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   double ff = 0.0;
   for (const auto& polygon : polygons) ff += point_polygon_form_factor(receiver.x, receiver.normal, polygon, approach);
+  return planar_shooter_transport(receiver, ff, triangles, rays, sampling, ray_count, shape, false);
+}
+
+TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
+                                               std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                               const TransportSampling& sampling, std::uint64_t& ray_count,
+                                               const ShooterShape* shape, bool above_horizon) {
+  TransportCoefficients out;
+  const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   if (!(ff > 0.0) || triangles.empty()) return out;
   out.unoccluded = static_cast<float>(ff);
   // Shadow rays are drawn by each triangle's form factor, approximated away
@@ -339,7 +347,7 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
   double sum = 0.0, weighed = 0.0;
   for (const auto& t : triangles) {
     const DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, t, approach);
-    sum += f.drawing;
+    sum += above_horizon ? f.weighing : f.drawing;
     cumulative.push_back(sum);
     weighed += f.weighing;
     weighing.push_back(weighed);

@@ -72,8 +72,8 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
 // form factor of its input polygons times the visible fraction of shadow rays
 // to its triangles, drawn in proportion to each triangle's form factor
-// (exact near the receiver, a disc estimate farther off; a cluster uses
-// exact ones). Drawing by area and weighting by the kernel instead
+// (exact near the receiver, a disc estimate farther off; a cluster whose
+// outline cannot give its form factor uses exact ones). Drawing by area and weighting by the kernel instead
 // lets the few samples nearest a receiver in a corner decide the whole
 // fraction (the kernel grows as 1/r⁴ there), which misjudged a floor seen
 // from the foot of a wall by 30 % (docs/accuracy.md).
@@ -81,5 +81,17 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
                                         std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape = nullptr);
+
+// The same for any planar constant-basis shooter whose exact unoccluded form
+// factor `ff` from the receiver is known (a cluster's, from its outline):
+// shadow rays drawn by disc_form_factors, as above. When the caller knows
+// every triangle lies above the receiver's horizon (`above_horizon`), the
+// rays are drawn by the unwidened weights: the widening exists for
+// triangles across the horizon, and drawing by it where there are none
+// only adds noise (each ray then counts for a weight ratio).
+TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
+                                               std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                               const TransportSampling& sampling, std::uint64_t& ray_count,
+                                               const ShooterShape* shape, bool above_horizon);
 
 }  // namespace lhr

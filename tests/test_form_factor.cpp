@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <optional>
+#include <span>
 #include <random>
 #include <vector>
 
@@ -160,6 +163,86 @@ TEST(FormFactor, SharedEdgesGiveEachTriangleItsOwnFormFactorExactly) {
     for (std::size_t j = 0; j < triangles.size(); ++j) {
       EXPECT_EQ(shared[j], point_triangle_form_factor(x, n, triangles[j], &approach)) << "triangle " << j;
     }
+  }
+}
+
+// A planar cluster's form factor from its outline alone: on an 8 × 8 grid
+// with a 2 × 2 hole, split into a small tree of clusters by hand, every
+// cluster's outline is the edges of its roots that no other root of it has,
+// and its contour integral is the sum of its triangles' own form factors
+// wherever the outline says it can be taken; elsewhere it says so.
+TEST(FormFactor, ClusterOutlineGivesTheSumOfItsTrianglesFormFactors) {
+  constexpr int kCells = 8;
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> vh;
+  for (int j = 0; j <= kCells; ++j) {
+    for (int i = 0; i <= kCells; ++i) vh.push_back(mesh.add_vertex(Vec3(i + 0.1 * std::sin(3.0 * j), j, 0)));
+  }
+  for (int j = 0; j < kCells; ++j) {
+    for (int i = 0; i < kCells; ++i) {
+      if ((i == 3 || i == 4) && (j == 3 || j == 4)) continue;  // the hole
+      const auto a = vh[j * (kCells + 1) + i], b = vh[j * (kCells + 1) + i + 1];
+      const auto c = vh[(j + 1) * (kCells + 1) + i + 1], d = vh[(j + 1) * (kCells + 1) + i];
+      mesh.add_face(a, b, c);
+      mesh.add_face(a, c, d);
+    }
+  }
+  const SurfaceHierarchy h(std::move(mesh));
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (std::size_t f = 0; f < h.num_roots(); ++f) {
+    const auto& c = h.corners(h.root(static_cast<int>(f)));
+    triangles.push_back({h.point(c[0]), h.point(c[1]), h.point(c[2])});
+  }
+  // 0: everything; 1, 2: x below / above 4; 3, 4: cluster 1 split at y = 4.
+  std::vector<RootCluster> clusters(5);
+  clusters[0].first_child = 1;
+  clusters[1].first_child = 3;
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    const Vec3 centroid = (triangles[f][0] + triangles[f][1] + triangles[f][2]) / 3.0;
+    const auto root = static_cast<NodeId>(f);
+    clusters[0].roots.push_back(root);
+    clusters[centroid[0] < 4 ? 1 : 2].roots.push_back(root);
+    if (centroid[0] < 4) clusters[centroid[1] < 4 ? 3 : 4].roots.push_back(root);
+  }
+  const auto edges = root_corner_edges(h);
+  const ClusterOutlines outlines = cluster_outlines(h, clusters, edges, 1);
+  const std::span<const Vec3> points(h.mesh().points(), h.mesh().n_vertices());
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    // The outline, edge by edge: in the cluster, one root runs along it.
+    std::map<std::pair<VertexId, VertexId>, int> runs;  // directed edges of the cluster's roots
+    for (NodeId r : clusters[c].roots) {
+      const auto& k = h.corners(r);
+      for (int e = 0; e < 3; ++e) ++runs[{k[e], k[(e + 1) % 3]}];
+    }
+    std::size_t expected = 0;
+    for (const auto& [edge, count] : runs) expected += runs.count({edge.second, edge.first}) == 0 ? 1 : 0;
+    const auto outline = outlines.of(c);
+    EXPECT_EQ(outline.size(), expected) << "cluster " << c;
+    for (const auto& e : outline) {
+      EXPECT_EQ(runs.count({e[0], e[1]}), 1U) << "cluster " << c;
+      EXPECT_EQ(runs.count({e[1], e[0]}), 0U) << "cluster " << c;
+    }
+    int taken = 0, refused = 0;
+    for (int i = 0; i < 600; ++i) {
+      const Vec3 x(4 + 6 * u(random), 4 + 6 * u(random), 3.0 * u(random));
+      const Vec3 n = Vec3(u(random), u(random), -1.5 * u(random)).normalized();
+      double sum = 0.0, lowest = 1e300;
+      for (NodeId r : clusters[c].roots) sum += point_triangle_form_factor(x, n, triangles[r]);
+      for (const auto& e : outline) lowest = std::min(lowest, OpenMesh::dot(n, points[e[0]] - x));
+      const std::optional<double> f = outline_form_factor(x, n, Vec3(0, 0, 1), points, outline);
+      if (x[2] > 1e-3 && lowest >= 0.0) {
+        ASSERT_TRUE(f.has_value()) << "cluster " << c << " receiver " << i;
+        EXPECT_NEAR(*f, sum, 1e-12 + 1e-10 * sum) << "cluster " << c << " receiver " << i;
+        ++taken;
+      } else if (x[2] < 0.0 || lowest < 0.0) {
+        EXPECT_FALSE(f.has_value()) << "cluster " << c << " receiver " << i;
+        ++refused;
+      }
+    }
+    EXPECT_GT(taken, 20) << "cluster " << c;
+    EXPECT_GT(refused, 20) << "cluster " << c;
   }
 }
 

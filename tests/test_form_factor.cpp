@@ -117,31 +117,45 @@ TEST(FormFactor, HemisphereCoveringPolygonApproachesOne) {
   EXPECT_LE(f, 1.0);
 }
 
+// A cells × cells grid of two triangles per cell, vertex (i, j) at point(i, j),
+// leaving out the cells `skip` names.
+template <typename Point, typename Skip>
+TriMesh grid_mesh(int cells, Point point, Skip skip) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> vh;
+  for (int j = 0; j <= cells; ++j) {
+    for (int i = 0; i <= cells; ++i) vh.push_back(mesh.add_vertex(point(i, j)));
+  }
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      if (skip(i, j)) continue;
+      const auto a = vh[j * (cells + 1) + i], b = vh[j * (cells + 1) + i + 1];
+      const auto c = vh[(j + 1) * (cells + 1) + i + 1], d = vh[(j + 1) * (cells + 1) + i];
+      mesh.add_face(a, b, c);
+      mesh.add_face(a, c, d);
+    }
+  }
+  return mesh;
+}
+
+std::vector<std::array<Vec3, 3>> root_triangles(const SurfaceHierarchy& h) {
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (std::size_t f = 0; f < h.num_roots(); ++f) {
+    const auto& c = h.corners(h.root(static_cast<int>(f)));
+    triangles.push_back({h.point(c[0]), h.point(c[1]), h.point(c[2])});
+  }
+  return triangles;
+}
+
 // A cluster link integrates each shared edge once; every triangle's value
 // must be what it gets alone, to the bit, wherever the receiver is: far, on
 // the patch's vertices and edges, on a face's plane, with the patch half
 // below its horizon.
 TEST(FormFactor, SharedEdgesGiveEachTriangleItsOwnFormFactorExactly) {
   constexpr int kCells = 6;
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  for (int j = 0; j <= kCells; ++j) {
-    for (int i = 0; i <= kCells; ++i) vh.push_back(mesh.add_vertex(Vec3(i, j, 0.3 * std::sin(i) * std::cos(j))));
-  }
-  for (int j = 0; j < kCells; ++j) {
-    for (int i = 0; i < kCells; ++i) {
-      const auto a = vh[j * (kCells + 1) + i], b = vh[j * (kCells + 1) + i + 1];
-      const auto c = vh[(j + 1) * (kCells + 1) + i + 1], d = vh[(j + 1) * (kCells + 1) + i];
-      mesh.add_face(a, b, c);
-      mesh.add_face(a, c, d);
-    }
-  }
-  const SurfaceHierarchy h(std::move(mesh));
-  std::vector<std::array<Vec3, 3>> triangles;
-  for (std::size_t f = 0; f < h.num_roots(); ++f) {
-    const auto& c = h.corners(h.root(static_cast<int>(f)));
-    triangles.push_back({h.point(c[0]), h.point(c[1]), h.point(c[2])});
-  }
+  const SurfaceHierarchy h(grid_mesh(
+      kCells, [](int i, int j) { return Vec3(i, j, 0.3 * std::sin(i) * std::cos(j)); }, [](int, int) { return false; }));
+  const std::vector<std::array<Vec3, 3>> triangles = root_triangles(h);
   const auto edges = root_corner_edges(h);
   std::vector<std::pair<Vec3, Vec3>> receivers;
   std::mt19937 random(3);
@@ -173,26 +187,10 @@ TEST(FormFactor, SharedEdgesGiveEachTriangleItsOwnFormFactorExactly) {
 // wherever the outline says it can be taken; elsewhere it says so.
 TEST(FormFactor, ClusterOutlineGivesTheSumOfItsTrianglesFormFactors) {
   constexpr int kCells = 8;
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  for (int j = 0; j <= kCells; ++j) {
-    for (int i = 0; i <= kCells; ++i) vh.push_back(mesh.add_vertex(Vec3(i + 0.1 * std::sin(3.0 * j), j, 0)));
-  }
-  for (int j = 0; j < kCells; ++j) {
-    for (int i = 0; i < kCells; ++i) {
-      if ((i == 3 || i == 4) && (j == 3 || j == 4)) continue;  // the hole
-      const auto a = vh[j * (kCells + 1) + i], b = vh[j * (kCells + 1) + i + 1];
-      const auto c = vh[(j + 1) * (kCells + 1) + i + 1], d = vh[(j + 1) * (kCells + 1) + i];
-      mesh.add_face(a, b, c);
-      mesh.add_face(a, c, d);
-    }
-  }
-  const SurfaceHierarchy h(std::move(mesh));
-  std::vector<std::array<Vec3, 3>> triangles;
-  for (std::size_t f = 0; f < h.num_roots(); ++f) {
-    const auto& c = h.corners(h.root(static_cast<int>(f)));
-    triangles.push_back({h.point(c[0]), h.point(c[1]), h.point(c[2])});
-  }
+  const SurfaceHierarchy h(grid_mesh(
+      kCells, [](int i, int j) { return Vec3(i + 0.1 * std::sin(3.0 * j), j, 0); },
+      [](int i, int j) { return (i == 3 || i == 4) && (j == 3 || j == 4); }));  // the hole
+  const std::vector<std::array<Vec3, 3>> triangles = root_triangles(h);
   // 0: everything; 1, 2: x below / above 4; 3, 4: cluster 1 split at y = 4.
   std::vector<RootCluster> clusters(5);
   clusters[0].first_child = 1;

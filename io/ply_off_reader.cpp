@@ -162,7 +162,16 @@ PlyHeader scan_ply(const fs::path& path, const std::string& bytes, Declared& dec
       p.length = length->second;
       p.value = value->second;
       ply.elements.back().properties.push_back(p);
-    } else if (!(key == "ply" && line.number == 1) && key != "comment" && key != "obj_info") {
+    } else if (key == "obj_info") {
+      // OpenMesh's reader takes an obj_info line word by word, so a header
+      // keyword in it is read as a header line of its own (and crashes it).
+      for (std::size_t i = 1; i < line.tokens.size(); ++i) {
+        const std::string_view w = line.tokens[i];
+        if (w == "element" || w == "property" || w == "end_header" || w == "format") {
+          throw InputError(path, line.number, "obj_info line contains the PLY keyword " + show(w));
+        }
+      }
+    } else if (!(key == "ply" && line.number == 1) && key != "comment") {
       throw InputError(path, line.number, "unexpected PLY header line starting with " + show(key));
     }
   }

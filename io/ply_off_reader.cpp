@@ -167,7 +167,7 @@ PlyHeader scan_ply(const fs::path& path, const std::string& bytes, Declared& dec
       // keyword in it is read as a header line of its own (and crashes it).
       for (std::size_t i = 1; i < line.tokens.size(); ++i) {
         const std::string_view w = line.tokens[i];
-        if (w == "element" || w == "property" || w == "end_header" || w == "format") {
+        if (w == "element" || w == "property" || w == "end_header") {
           throw InputError(path, line.number, "obj_info line contains the PLY keyword " + show(w));
         }
       }

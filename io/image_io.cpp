@@ -1,8 +1,5 @@
 #include "io/image_io.hpp"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cctype>
@@ -10,6 +7,7 @@
 #include <string>
 
 #include "io/atomic_file.hpp"
+#include "io/image_codecs.hpp"
 #include "io/input_error.hpp"
 
 namespace lhr {
@@ -83,35 +81,22 @@ void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, cons
   // Encoded in memory, then written through the library's checked stream:
   // the file writers of the image plugins do not all report a failed write
   // or close with its reason.
+  image_codecs::EncodeRequest request;
+  request.path = path.string();
+  request.width = image.width;
+  request.height = image.height;
+  request.png = ext == ".png";
+  request.rgb = image.rgb.data();
+  request.software = metadata.software;
+  request.notes = metadata.notes;
+  if (metadata.camera) {
+    request.has_camera = true;
+    request.world_to_camera = world_to_camera_matrix(*metadata.camera);
+    request.world_to_ndc = world_to_ndc_matrix(*metadata.camera);
+  }
   std::vector<unsigned char> encoded;
-  {
-    OIIO::Filesystem::IOVecOutput proxy(encoded);
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
-    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy)) {
-      throw std::runtime_error(path.string() + ": the image writer cannot write to memory");
-    }
-    const bool png = ext == ".png";
-    OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (!metadata.software.empty()) spec.attribute("Software", metadata.software);
-    for (const auto& [key, value] : metadata.notes) spec.attribute(key, value);
-    if (metadata.camera && !png) {
-      const std::array<float, 16> to_camera = world_to_camera_matrix(*metadata.camera);
-      const std::array<float, 16> to_ndc = world_to_ndc_matrix(*metadata.camera);
-      spec.attribute("worldtocamera", OIIO::TypeMatrix, to_camera.data());
-      spec.attribute("worldtoscreen", OIIO::TypeMatrix, to_ndc.data());
-    }
-    if (!out->open(path.string(), spec)) throw std::runtime_error(path.string() + ": " + out->geterror());
-    bool ok;
-    if (png) {
-      std::vector<float> clamped(image.rgb.size());
-      std::transform(image.rgb.begin(), image.rgb.end(), clamped.begin(),
-                     [](float v) { return std::clamp(v, 0.0f, 1.0f); });
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, clamped.data());
-    } else {
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
-    }
-    if (!ok || !out->close()) throw std::runtime_error(path.string() + ": " + out->geterror());
+  if (const std::string error = image_codecs::codecs().encode(request, encoded); !error.empty()) {
+    throw std::runtime_error(path.string() + ": " + error);
   }
   outputs.stage(path, [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(encoded.data()), static_cast<std::streamsize>(encoded.size()));
@@ -120,17 +105,16 @@ void write_image(AtomicOutputs& outputs, const std::filesystem::path& path, cons
 
 Image read_image(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path, "image has no pixels");
-  std::vector<float> all(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
-    throw InputError(path, "cannot read pixels: " + in->geterror());
-  }
-  Image image(spec.width, spec.height);
-  for (std::size_t i = 0; i < static_cast<std::size_t>(spec.width) * spec.height; ++i) {
-    for (int k = 0; k < 3; ++k) image.rgb[3 * i + k] = all[i * spec.nchannels + std::min(k, spec.nchannels - 1)];
+  image_codecs::DecodedImage decoded;
+  image_codecs::DecodeFailure failure;
+  const std::string error = image_codecs::codecs().decode(path.string(), decoded, failure);
+  if (failure == image_codecs::DecodeFailure::kOpen) throw InputError(path, "cannot read image: " + error);
+  if (failure == image_codecs::DecodeFailure::kPixels) throw InputError(path, "cannot read pixels: " + error);
+  if (decoded.pixels.empty()) throw InputError(path, "image has no pixels");
+  Image image(decoded.width, decoded.height);
+  const int channels = decoded.channels;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(decoded.width) * decoded.height; ++i) {
+    for (int k = 0; k < 3; ++k) image.rgb[3 * i + k] = decoded.pixels[i * channels + std::min(k, channels - 1)];
   }
   return image;
 }

@@ -1,11 +1,11 @@
 #include "io/texture_colour.hpp"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include "io/image_codecs.hpp"
 
 namespace lhr {
 
@@ -16,23 +16,22 @@ double srgb_to_linear(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v 
 }  // namespace
 
 Rgb texture_mean_colour(const std::filesystem::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw InputError(path, "cannot read texture: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path, "texture has no pixels");
-  const std::size_t pixels = static_cast<std::size_t>(spec.width) * spec.height;
-  std::vector<float> all(pixels * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
-    throw InputError(path, "cannot read texture pixels: " + in->geterror());
-  }
-  const std::string space = spec.get_string_attribute("oiio:ColorSpace");
-  const bool encoded = spec.format.is_floating_point() ? (space == "sRGB") : (space != "Linear" && space != "linear");
+  image_codecs::DecodedImage decoded;
+  image_codecs::DecodeFailure failure;
+  const std::string error = image_codecs::codecs().decode(path.string(), decoded, failure);
+  if (failure == image_codecs::DecodeFailure::kOpen) throw InputError(path, "cannot read texture: " + error);
+  if (failure == image_codecs::DecodeFailure::kPixels) throw InputError(path, "cannot read texture pixels: " + error);
+  if (decoded.pixels.empty()) throw InputError(path, "texture has no pixels");
+  const std::size_t pixels = static_cast<std::size_t>(decoded.width) * decoded.height;
+  const int channels = decoded.channels;
+  const std::string& space = decoded.colour_space;
+  const bool encoded = decoded.floating_point ? (space == "sRGB") : (space != "Linear" && space != "linear");
   // Grey with alpha has two channels; colour images have three or more.
-  const int colour_channels = spec.nchannels < 3 ? 1 : 3;
+  const int colour_channels = channels < 3 ? 1 : 3;
   Rgb sum(0.0, 0.0, 0.0);
   for (std::size_t i = 0; i < pixels; ++i) {
     for (int k = 0; k < 3; ++k) {
-      const double v = std::clamp(static_cast<double>(all[i * spec.nchannels + std::min(k, colour_channels - 1)]),
+      const double v = std::clamp(static_cast<double>(decoded.pixels[i * channels + std::min(k, colour_channels - 1)]),
                                   0.0, 1.0);
       sum[k] += encoded ? srgb_to_linear(v) : v;
     }

@@ -64,6 +64,12 @@ constexpr std::size_t kMaxVerticesPerSurface = std::size_t{1} << 24;
 constexpr double kCurvedTargetFraction = 0.75;
 constexpr double kSharpEdgeAngleDeg = 60.0;
 constexpr unsigned kRemeshIterations = 3;
+// A border or sharp-feature vertex whose two constrained edges turn by more
+// than this stays fixed, so coarsening the line does not cut its corners.
+constexpr double kConstraintCornerDeg = 30.0;
+// No remeshed triangle may have a vertex closer than this fraction of its
+// longest edge to the line through the opposite edge.
+constexpr double kDegenerateHeight = 1e-6;
 
 double orient2(const Point2& a, const Point2& b, const Point2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
@@ -767,7 +773,9 @@ double edge_length(const TriMesh& mesh, boost::graph_traits<TriMesh>::edge_descr
   return mesh.calc_edge_length(mesh.edge_handle(e.halfedge()));
 }
 
-void remesh(TriMesh& mesh, double h) {
+// `fixed` vertices are neither moved nor removed: the ends of seam edges,
+// which another surface shares, and corners of the open border.
+void remesh(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   mesh.request_vertex_status();
   mesh.request_edge_status();
@@ -783,33 +791,33 @@ void remesh(TriMesh& mesh, double h) {
   mesh.add_property(constrained_vertex.prop);
   for (const auto e : edges(mesh)) put(constrained_edge, e, CGAL::is_border(e, mesh));
   PMP::detect_sharp_edges(mesh, kSharpEdgeAngleDeg, constrained_edge, CGAL::parameters::vertex_point_map(points));
-
-  // Protected constraints are never split by the remesher, so bring them to
-  // the remesher's own "long" threshold first (midpoint splits stay on the
-  // input edges).
-  const double target_length = kCurvedTargetFraction * h;
-  const double constraint_length = std::min(h, 4.0 / 3.0 * target_length) * (1.0 - 1e-12);
-  std::vector<boost::graph_traits<TriMesh>::edge_descriptor> to_split;
-  for (const auto e : edges(mesh)) {
-    if (get(constrained_edge, e)) to_split.push_back(e);
-  }
-  PMP::split_long_edges(to_split, constraint_length, mesh,
-                        CGAL::parameters::edge_is_constrained_map(constrained_edge).vertex_point_map(points));
   for (const auto v : vertices(mesh)) put(constrained_vertex, v, false);
-  for (const auto e : edges(mesh)) {
-    if (!get(constrained_edge, e)) continue;
-    put(constrained_vertex, source(e, mesh), true);
-    put(constrained_vertex, target(e, mesh), true);
+  for (const auto v : fixed) put(constrained_vertex, v, true);
+  // Constrained edges are split and collapsed along themselves, so the
+  // border and sharp features keep their polyline; vertices where such
+  // lines meet or turn are kept where they are.
+  for (const auto v : mesh.vertices()) {
+    std::vector<Vec3> directions;
+    for (const auto he : mesh.voh_range(v)) {
+      if (get(constrained_edge, edge(he, mesh))) directions.push_back(mesh.calc_edge_vector(he).normalized());
+    }
+    if (directions.empty()) continue;
+    if (directions.size() != 2 ||
+        OpenMesh::dot(directions[0], -directions[1]) < std::cos(kConstraintCornerDeg * kPi / 180.0)) {
+      put(constrained_vertex, v, true);
+    }
   }
 
+  const double target_length = kCurvedTargetFraction * h;
   PMP::isotropic_remeshing(faces(mesh), target_length, mesh,
                            CGAL::parameters::number_of_iterations(kRemeshIterations)
                                .edge_is_constrained_map(constrained_edge)
                                .vertex_is_constrained_map(constrained_vertex)
-                               .protect_constraints(true)
+                               .protect_constraints(false)
                                .vertex_point_map(points));
 
   // Smoothing can stretch an edge past h; split what remains.
+  std::vector<boost::graph_traits<TriMesh>::edge_descriptor> to_split;
   for (int round = 0; round < 8; ++round) {
     to_split.clear();
     for (const auto e : edges(mesh)) {
@@ -845,7 +853,12 @@ TriMesh mesh_curved(const Surface& surface, const MeshingOptions& options) {
       throw std::runtime_error("has a zero-area polygon; remove it or merge its vertices");
     }
   }
-  remesh(mesh, h);
+  std::vector<TriMesh::VertexHandle> fixed;
+  for (const auto& [a, b] : surface.seam_edges) {
+    fixed.push_back(handle.at(a));
+    fixed.push_back(handle.at(b));
+  }
+  remesh(mesh, h, fixed);
   mesh.garbage_collection();
   // CGAL's Euler operations do not keep OpenMesh's invariant that a boundary
   // vertex's outgoing halfedge is a boundary one; is_boundary(v) relies on it.
@@ -853,6 +866,14 @@ TriMesh mesh_curved(const Surface& surface, const MeshingOptions& options) {
   for (const auto e : mesh.edges()) {
     if (mesh.calc_edge_length(e) > h * (1.0 + 1e-9)) {
       throw std::runtime_error("remeshing left an edge longer than the maximum edge length");
+    }
+  }
+  // Embree and the form factors need a normal on every triangle.
+  for (const auto f : mesh.faces()) {
+    double longest = 0.0;
+    for (const auto he : mesh.fh_range(f)) longest = std::max(longest, mesh.calc_edge_length(he));
+    if (!(2.0 * mesh.calc_face_area(f) > kDegenerateHeight * longest * longest)) {
+      throw std::runtime_error("remeshing left a degenerate triangle; give a smaller --max-edge");
     }
   }
   if (mesh.n_faces() == 0) throw std::runtime_error("remeshing produced no triangles");

@@ -3,6 +3,7 @@
 // meshing, solvers and renderers consume.
 
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,11 @@ struct Surface {
   bool planar = false;                     // all points within a relative tolerance of one plane
   Vec3 normal{0, 0, 0};                    // unit front normal (area-weighted mean)
   double area = 0.0;
+  // Edges (pairs of indices into points) that the surface shares with a face
+  // of another surface: a crease, a change of material or group, a
+  // non-manifold edge. Every other boundary edge is open, and meshing a
+  // curved surface may coarsen it (docs/design.md §4, "Curved surfaces").
+  std::vector<std::pair<int, int>> seam_edges;
 };
 
 // The tone-map block of a scene file (docs/design.md §4 "Tone map M").

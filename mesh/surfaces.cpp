@@ -220,6 +220,24 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
     newell_sum[si] += 2.0 * area[f] * normal[f];
   }
 
+  // Seams: edges whose faces lie in more than one surface, recorded in each.
+  std::vector<std::size_t> surface_of_face(n_faces, 0);
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    if (kept[f]) surface_of_face[f] = surface_of_root.at(components.find(static_cast<int>(f)));
+  }
+  for (const auto& [edge, faces] : edge_faces) {
+    const bool seam = std::any_of(faces.begin(), faces.end(),
+                                  [&](int f) { return surface_of_face[f] != surface_of_face[faces[0]]; });
+    if (!seam) continue;
+    std::vector<std::size_t> recorded;
+    for (int f : faces) {
+      const std::size_t si = surface_of_face[f];
+      if (std::find(recorded.begin(), recorded.end(), si) != recorded.end()) continue;
+      recorded.push_back(si);
+      split.surfaces[si].seam_edges.emplace_back(local_index[si].at(edge.first), local_index[si].at(edge.second));
+    }
+  }
+
   for (std::size_t si = 0; si < split.surfaces.size(); ++si) {
     Surface& s = split.surfaces[si];
     Vec3 slo(kInf, kInf, kInf);

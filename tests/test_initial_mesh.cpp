@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -526,32 +527,119 @@ TEST(CurvedMeshing, ClosedSphere) {
   EXPECT_EQ(static_cast<int>(m.n_vertices()) - static_cast<int>(m.n_edges()) + static_cast<int>(m.n_faces()), 2);
 }
 
-TEST(CurvedMeshing, DomeKeepsItsBoundary) {
+// Output boundary edges, each with whether both ends lie on the input boundary.
+double boundary_length_on_input(const Surface& s, const TriMesh& m, int* off_input) {
+  const std::vector<Segment> boundary = input_boundary(s);
+  double length = 0.0;
+  *off_input = 0;
+  for (const auto h : m.halfedges()) {
+    if (!m.is_boundary(h)) continue;
+    const Vec3 a = m.point(m.from_vertex_handle(h)), b = m.point(m.to_vertex_handle(h));
+    length += (b - a).norm();
+    bool a_on = false, b_on = false;
+    for (const Segment& seg : boundary) {
+      a_on = a_on || distance_to_segment(a, seg) < 1e-9;
+      b_on = b_on || distance_to_segment(b, seg) < 1e-9;
+    }
+    if (!a_on || !b_on) ++*off_input;
+  }
+  return length;
+}
+
+TEST(CurvedMeshing, DomeBoundaryIsCoarsenedAlongTheInputBoundary) {
+  // An open border (no other surface shares it) is remeshed along itself:
+  // its vertices stay on the input's boundary polyline, at the minimum density.
   const Surface s = sphere(3, true);
   const MeshingOptions o = with_h(0.15);
   const TriMesh m = mesh_surface(s, o);
   check_curved_common(s, o, m);
   EXPECT_EQ(static_cast<int>(m.n_vertices()) - static_cast<int>(m.n_edges()) + static_cast<int>(m.n_faces()), 1);
+  int off_input = 0;
+  const double output_length = boundary_length_on_input(s, m, &off_input);
+  EXPECT_EQ(off_input, 0);
+  double input_length = 0.0;
+  for (const Segment& seg : input_boundary(s)) input_length += (seg.b - seg.a).norm();
+  // Chords of the input's 32-gon: shorter, by the chord error of edges <= h.
+  EXPECT_LE(output_length, input_length * (1 + 1e-9));
+  EXPECT_GE(output_length, input_length * (1 - 0.15 * 0.15 / 24));
+}
 
+TEST(CurvedMeshing, SeamVerticesSharedWithAnotherSurfaceStay) {
+  Surface s = sphere(4, true);
+  // Pretend the western half of the rim is shared with another surface.
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& poly : s.polygons) {
+    for (std::size_t i = 0; i < poly.size(); ++i) ++uses[std::minmax(poly[i], poly[(i + 1) % poly.size()])];
+  }
+  std::set<int> seam_points;
+  for (const auto& [e, n] : uses) {
+    if (n == 1 && s.points[e.first][0] < 0.0 && s.points[e.second][0] < 0.0) {
+      s.seam_edges.push_back(e);
+      seam_points.insert(e.first);
+      seam_points.insert(e.second);
+    }
+  }
+  ASSERT_GE(seam_points.size(), 10u);
+  const TriMesh m = mesh_surface(s, with_h(0.3));
   std::set<std::array<double, 3>> out_points;
   for (const auto v : m.vertices()) out_points.insert({m.point(v)[0], m.point(v)[1], m.point(v)[2]});
-  for (int i : input_boundary_vertices(s)) {
-    EXPECT_TRUE(out_points.count({s.points[i][0], s.points[i][1], s.points[i][2]})) << "boundary vertex " << i;
+  for (int i : seam_points) {
+    EXPECT_TRUE(out_points.count({s.points[i][0], s.points[i][1], s.points[i][2]})) << "seam vertex " << i;
   }
-  const std::vector<Segment> boundary = input_boundary(s);
-  double input_length = 0.0, output_length = 0.0;
-  for (const Segment& seg : boundary) input_length += (seg.b - seg.a).norm();
-  for (const auto h : m.halfedges()) {
-    if (!m.is_boundary(h)) continue;
-    const Vec3 a = m.point(m.from_vertex_handle(h)), b = m.point(m.to_vertex_handle(h));
-    output_length += (b - a).norm();
-    bool on_input = false;
-    for (const Segment& seg : boundary) {
-      on_input = on_input || (distance_to_segment(a, seg) < 1e-9 && distance_to_segment(b, seg) < 1e-9);
+  int off_input = 0;
+  boundary_length_on_input(s, m, &off_input);
+  EXPECT_EQ(off_input, 0);
+  // The free half is coarsened: fewer rim vertices there than in the input.
+  int free_input = 0, free_output = 0;
+  for (int i : input_boundary_vertices(s)) free_input += s.points[i][0] > 1e-9;
+  for (const auto v : m.vertices()) free_output += m.is_boundary(v) && m.point(v)[0] > 1e-9;
+  EXPECT_LT(free_output, free_input);
+}
+
+// A height field finely tessellated (like a terrain scan or a subdivided
+// Blender plane): its border has many more vertices than h asks for. When
+// the border was kept whole, the remesher fanned long thin triangles onto
+// it, some with a vertex within 1e-6 of the opposite edge's line, which
+// `lhr validate` rejects and on which Embree aborts.
+Surface fine_terrain(int n) {
+  std::vector<Vec3> points;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const double x = static_cast<double>(i) / n, y = static_cast<double>(j) / n;
+      points.emplace_back(x, y, 0.02 * std::sin(3.0 * x) * std::cos(2.0 * y) + 0.01 * std::sin(7.0 * x + 5.0 * y));
     }
-    EXPECT_TRUE(on_input) << "boundary edge " << a << " - " << b;
   }
-  EXPECT_NEAR(output_length, input_length, 1e-9 * input_length);
+  std::vector<std::vector<int>> polygons;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      polygons.push_back({a, b, d});
+      polygons.push_back({a, d, c});
+    }
+  }
+  return make_surface("terrain", points, polygons, false);
+}
+
+TEST(CurvedMeshing, FinelyDividedTerrainGetsNoSliversAtItsBorder) {
+  const Surface s = fine_terrain(150);
+  const MeshingOptions o = with_h(0.1);
+  const TriMesh m = mesh_surface(s, o);
+  ASSERT_GT(m.n_faces(), 0u);
+  EXPECT_LE(max_edge_length(m), o.max_edge * (1 + 1e-6));
+  EXPECT_NEAR(mesh_area(m), fan_area(s), 1e-3 * fan_area(s));
+  double worst = kPi;
+  for (const auto f : m.faces()) worst = std::min(worst, smallest_angle(corners(m, f)));
+  std::cout << "smallest angle " << deg(worst) << " degrees, " << m.n_faces() << " triangles\n";
+  // Isotropic remeshing gives near-equilateral triangles; at a coarsened
+  // border a few are squeezed, none to a sliver.
+  EXPECT_GT(deg(worst), 10.0);
+  int boundary_vertices = 0;
+  for (const auto v : m.vertices()) boundary_vertices += m.is_boundary(v);
+  // A perimeter of 4 at h = 0.1 needs about 40-55 border vertices; the input has 600.
+  EXPECT_LT(boundary_vertices, 120);
+  int off_input = 0;
+  boundary_length_on_input(s, m, &off_input);
+  EXPECT_EQ(off_input, 0);
 }
 
 TEST(CurvedMeshing, Deterministic) {

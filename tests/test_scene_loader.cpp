@@ -514,6 +514,27 @@ TEST(SurfaceSplit, InconsistentlyOrientedNeighboursAreSeparate) {
   EXPECT_EQ(split_into_surfaces(soup, 180.0).surfaces.size(), 1u);
 }
 
+TEST(SurfaceSplit, EachSurfaceRecordsTheEdgesItSharesWithAnother) {
+  // Three triangles of a square strip: the first two share material 0, the
+  // third has material 1. Only the edge between the second and the third is
+  // a seam, recorded in both surfaces with their own point indices.
+  PolygonSoup soup;
+  soup.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}};
+  soup.materials = {Material{}, Material{}};
+  soup.groups = {"g"};
+  soup.faces = {{{0, 1, 2}, 0, 0, 1}, {{0, 2, 3}, 0, 0, 2}, {{1, 4, 2}, 1, 0, 3}};
+  const SurfaceSplit split = split_into_surfaces(soup, 30.0);
+  ASSERT_EQ(split.surfaces.size(), 2u);
+  for (const Surface& s : split.surfaces) {
+    ASSERT_EQ(s.seam_edges.size(), 1u) << s.name;
+    const Vec3 a = s.points[s.seam_edges[0].first], b = s.points[s.seam_edges[0].second];
+    EXPECT_EQ(std::min(a[1], b[1]), 0.0);
+    EXPECT_EQ(std::max(a[1], b[1]), 1.0);
+    EXPECT_EQ(a[0], 1.0);
+    EXPECT_EQ(b[0], 1.0);
+  }
+}
+
 TEST(SurfaceSplit, SlightlyBentSurfaceIsNotPlanar) {
   // Two triangles folded by 2° along their shared edge: one surface at the
   // default crease angle, but not planar.

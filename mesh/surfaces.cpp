@@ -226,8 +226,10 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
     if (kept[f]) surface_of_face[f] = surface_of_root.at(components.find(static_cast<int>(f)));
   }
   for (const auto& [edge, faces] : edge_faces) {
+    // A structured binding cannot be captured by a lambda before C++20's P1091 (clang 14).
+    const std::size_t first_surface = surface_of_face[faces[0]];
     const bool seam = std::any_of(faces.begin(), faces.end(),
-                                  [&](int f) { return surface_of_face[f] != surface_of_face[faces[0]]; });
+                                  [&](int f) { return surface_of_face[f] != first_surface; });
     if (!seam) continue;
     std::vector<std::size_t> recorded;
     for (int f : faces) {

@@ -20,7 +20,8 @@ cmake --build "$build" -j "$(nproc)" --target lhr_fuzzers
 
 crashes=tests/fuzz/crashes
 mkdir -p "$crashes"
-export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
+# intercept_tls_get_addr=0: see tools/test-sanitized.sh.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:intercept_tls_get_addr=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 failed=()
 for name in $targets; do

@@ -62,7 +62,17 @@ constexpr std::size_t kMaxVerticesPerSurface = std::size_t{1} << 24;
 // Curved surfaces: CGAL splits edges longer than 4/3 of the target length,
 // so a target of 3/4 h keeps remeshed edges at h (Botsch & Kobbelt 2004).
 constexpr double kCurvedTargetFraction = 0.75;
-constexpr double kSharpEdgeAngleDeg = 60.0;
+// An input edge where the surface bends by more than this (the angle between
+// its two faces' normals) stays a line of the initial mesh, so every
+// triangle lies in one input polygon's plane there: the path tracer and the
+// vertex reference see the input polygons, and a triangle remeshed across a
+// bend of δ tilts by up to δ/2 from them, which changes the cosine toward a
+// light at incidence θ by about tan θ · δ/2 (2 % at 45° for δ = 2°) and
+// moves a light's horizon to another place on the surface. A 32 × 16 UV
+// sphere bends 11.25° at every edge; the published Cornell box's warped
+// wall 0.33° and a finely tessellated terrain under 1°, and those are still
+// coarsened to the minimum density (docs/design.md §4, "Initial meshing").
+constexpr double kKeptBendDeg = 2.0;
 constexpr unsigned kRemeshIterations = 3;
 // A border or sharp-feature vertex whose two constrained edges turn by more
 // than this stays fixed, so coarsening the line does not cut its corners.
@@ -790,7 +800,7 @@ void remesh(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& f
   mesh.add_property(constrained_edge.prop);
   mesh.add_property(constrained_vertex.prop);
   for (const auto e : edges(mesh)) put(constrained_edge, e, CGAL::is_border(e, mesh));
-  PMP::detect_sharp_edges(mesh, kSharpEdgeAngleDeg, constrained_edge, CGAL::parameters::vertex_point_map(points));
+  PMP::detect_sharp_edges(mesh, kKeptBendDeg, constrained_edge, CGAL::parameters::vertex_point_map(points));
   for (const auto v : vertices(mesh)) put(constrained_vertex, v, false);
   for (const auto v : fixed) put(constrained_vertex, v, true);
   // Constrained edges are split and collapsed along themselves, so the

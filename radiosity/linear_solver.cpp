@@ -394,17 +394,20 @@ bool LinearSolver::link_new_shooters() {
   // earlier iterations keep their index: the per-graph importance refers to
   // them by it until the next importance pass.
   unoccluded_at_.resize(graphs_.size());
+  facet_spread_at_.resize(graphs_.size());
   std::size_t kept = first_new;
   for (std::size_t g = first_new; g < graphs_.size(); ++g) {
     if (!exchanges(graphs_[g])) continue;
     if (kept != g) {
       graphs_[kept] = std::move(graphs_[g]);
       unoccluded_at_[kept] = std::move(unoccluded_at_[g]);
+      facet_spread_at_[kept] = std::move(facet_spread_at_[g]);
     }
     ++kept;
   }
   graphs_.erase(graphs_.begin() + static_cast<std::ptrdiff_t>(kept), graphs_.end());
   unoccluded_at_.resize(kept);
+  facet_spread_at_.resize(kept);
   for (SurfaceState& st : surfaces_) st.graphs_in.clear();
   for (std::size_t g = 0; g < graphs_.size(); ++g) {
     surfaces_[graphs_[g].receiver_surface()].graphs_in.push_back(static_cast<int>(g));
@@ -497,29 +500,43 @@ TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int 
   return out;
 }
 
-double LinearSolver::unoccluded_form_factor(int r, VertexId v, int s) const {
+double LinearSolver::unoccluded_form_factor(const ReceiverPoint& point, int s) const {
   const Surface& shooter = model_.scene().surfaces[s];
   const SurfaceHierarchy& h = model_.hierarchy(s);
-  std::vector<Vec3> polygon;
-  double total = 0.0;
-  for (const CollocationPoint& p : collocation_points(r, v)) {
-    const Vec3* approach = p.point.approach.sqrnorm() > 0 ? &p.point.approach : nullptr;
-    double ff = 0.0;
-    if (shooter.planar) {
-      for (const auto& indices : shooter.polygons) {
-        polygon.clear();
-        for (int i : indices) polygon.push_back(shooter.points[i]);
-        ff += point_polygon_form_factor(p.point.x, p.point.normal, polygon, approach);
-      }
-    } else {
-      for (std::size_t root = 0; root < h.num_roots(); ++root) {
-        ff += point_triangle_form_factor(p.point.x, p.point.normal,
-                                         model_.triangle(s, static_cast<NodeId>(root)), approach);
-      }
+  const Vec3* approach = point.approach.sqrnorm() > 0 ? &point.approach : nullptr;
+  double ff = 0.0;
+  if (shooter.planar) {
+    std::vector<Vec3> polygon;
+    for (const auto& indices : shooter.polygons) {
+      polygon.clear();
+      for (int i : indices) polygon.push_back(shooter.points[i]);
+      ff += point_polygon_form_factor(point.x, point.normal, polygon, approach);
     }
-    total += p.weight * ff;
+  } else {
+    for (std::size_t root = 0; root < h.num_roots(); ++root) {
+      ff += point_triangle_form_factor(point.x, point.normal, model_.triangle(s, static_cast<NodeId>(root)), approach);
+    }
   }
+  return ff;
+}
+
+double LinearSolver::unoccluded_form_factor(int r, VertexId v, int s) const {
+  double total = 0.0;
+  for (const CollocationPoint& p : collocation_points(r, v)) total += p.weight * unoccluded_form_factor(p.point, s);
   return total;
+}
+
+double LinearSolver::facet_spread(int r, VertexId v, int s) const {
+  const std::vector<CollocationPoint> points = collocation_points(r, v);
+  if (points.size() < 2) return 0.0;
+  double mean = 0.0, lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (const CollocationPoint& p : points) {
+    const double ff = unoccluded_form_factor(p.point, s);
+    mean += p.weight * ff;
+    lo = std::min(lo, ff);
+    hi = std::max(hi, ff);
+  }
+  return mean > 0.0 ? (hi - lo) / mean : 0.0;
 }
 
 TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int s, NodeId shooter,
@@ -1022,11 +1039,44 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
       }
       return false;
     };
+    // docs/accuracy.md, "Facet edges": on a curved R the faces through a
+    // node on a facet edge see S differently (the light can be above one
+    // facet's plane and below the next one's), so the radiance S gives
+    // jumps there, while the node holds the mean of the one-sided limits.
+    // Every leaf touching the node then carries a ramp off by up to half the
+    // jump, and it is linear, so no second difference sees it. Judged like
+    // the edge test: that half jump on the display, over the leaf's pixels.
+    const bool curved = !model_.scene().surfaces[r].planar;
+    std::vector<float>* facet_spread_cache = nullptr;
+    if (curved) {
+      if (facet_spread_at_.size() < graphs_.size()) facet_spread_at_.resize(graphs_.size());
+      facet_spread_cache = &facet_spread_at_[gi];
+      if (facet_spread_cache->size() < st.radiance.size()) {
+        facet_spread_cache->resize(st.radiance.size(), std::numeric_limits<float>::quiet_NaN());
+      }
+    }
+    const auto facet_jump_shows = [&](NodeId leaf) {
+      const double pixels = node_importance(r, leaf);
+      if (facet_spread_cache == nullptr || pixels < options_.eps_pixel) return false;
+      for (VertexId v : h.corners(leaf)) {
+        const int i = g.index_of(v);
+        if (i < 0) continue;
+        const double b = own(i);
+        if (!(b > 0.0)) continue;
+        float& spread = (*facet_spread_cache)[v];
+        if (std::isnan(spread)) spread = static_cast<float>(facet_spread(r, v, s));
+        const double half_jump = 0.5 * b * spread;
+        const double total = luminance(st.radiance[v]);
+        const double error = 0.5 * (tone.display(total + half_jump) - tone.display(std::max(0.0, total - half_jump)));
+        if (ReceiverOracle::refines(error, pixels, options_.eps_pixel)) return true;
+      }
+      return false;
+    };
     std::vector<NodeId> to_split;
     std::vector<OracleEdge> edges;
     for (NodeId leaf : g.leaves()) {
       if (misses_small_shooter(leaf) && splittable(r, leaf, s)) to_split.push_back(leaf);
-      if (interpolation_doubtful(leaf) && splittable(r, leaf, s)) {
+      if ((interpolation_doubtful(leaf) || facet_jump_shows(leaf)) && splittable(r, leaf, s)) {
         to_split.push_back(leaf);
         continue;
       }
@@ -1178,6 +1228,7 @@ void LinearSolver::collect_stats() {
     stats_.bytes_links += g.link_bytes();
   }
   for (const std::vector<float>& u : unoccluded_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
+  for (const std::vector<float>& u : facet_spread_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
   stats_.leaves_per_level.clear();

@@ -203,6 +203,11 @@ class LinearSolver {
   // occlusion: what coefficients() would sum to over any complete cut of s
   // with every shadow ray clear.
   double unoccluded_form_factor(int r, VertexId v, int s) const;
+  double unoccluded_form_factor(const ReceiverPoint& point, int s) const;
+  // On a curved R, how far apart the faces around vertex v see s: the
+  // spread (max − min) of their unoccluded form factors over the node's
+  // mean. 0 for a node inside one face (docs/accuracy.md, "Facet edges").
+  double facet_spread(int r, VertexId v, int s) const;
   TransportCoefficients transport_to(const ReceiverPoint& point, int s, NodeId shooter,
                                      const TransportSampling& sampling, std::uint64_t& rays) const;
   void gather();
@@ -241,6 +246,9 @@ class LinearSolver {
   // Per graph and receiver vertex, filled when push() first needs it: the
   // unoccluded form factor from the graph's shooter (NaN until computed).
   std::vector<std::vector<float>> unoccluded_at_;
+  // Per graph and receiver vertex of a curved receiver, filled when
+  // refine_receivers() first needs it: facet_spread() (NaN until computed).
+  std::vector<std::vector<float>> facet_spread_at_;
   double max_emitted_ = 0.0;
   double total_emitted_power_ = 0.0;
   ElementFloor floor_;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "mesh/validate.hpp"
 #include "radiosity/classical_solver.hpp"
@@ -183,6 +184,70 @@ TEST(CurvedSurfaces, SkewedQuadUnderALightGetsTheFormFactorAtEveryNode) {
       EXPECT_NEAR(solver.radiance(wall, leaf)[0], exact, 0.02 * exact + 1e-6) << "leaf " << leaf;
     }
   }
+}
+
+// A roof of two facets meeting at a ridge, bent down by 20° (one curved
+// surface), and a light beside it that lies above the first facet's plane
+// and below the second's: the radiance jumps from ρ·Le·F to 0 across the
+// ridge. The node on the ridge holds the mean, and each leaf touching it a
+// linear ramp (docs/accuracy.md, "Facet edges"), so what the solution
+// misplaces goes with the size of those leaves, and with whether the mesh
+// has the ridge as an edge at all. Truth: L = ρ·Le·F(x) on the lit facet,
+// 0 on the other.
+TEST(CurvedSurfaces, RadianceJumpingAtAFacetEdgeStaysAtTheEdge) {
+  const double rho = 0.5, bend = 20.0 * M_PI / 180.0;
+  const double c = std::cos(bend), s = std::sin(bend);
+  PolygonSoup soup;
+  soup.materials = {grey("roof", rho), grey("light", 0.0, 1.0)};
+  soup.groups = {"roof", "light"};
+  soup.points = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {c, 0, -s}, {c, 1, -s}};
+  soup.faces.push_back({{0, 1, 2, 3}, 0, 0, 0});
+  soup.faces.push_back({{1, 4, 5, 2}, 0, 0, 0});
+  test::add_quad(soup, Vec3(-2, 0, 0.1), Vec3(-2, 1, 0.1), Vec3(-2, 1, 0.5), Vec3(-2, 0, 0.5), 1, 1);
+  const Scene scene = test::scene_from_soup(soup, "roof");
+  const int roof = scene.materials[scene.surfaces[0].material].name == "roof" ? 0 : 1;
+  ASSERT_FALSE(scene.surfaces[roof].planar);
+  const Surface& light = scene.surfaces[1 - roof];
+  const Vec3 lit_normal(0, 0, 1);
+  const auto exact = [&](const Vec3& x, const Vec3& n) {
+    return OpenMesh::dot(n, lit_normal) > 1.0 - 1e-9 ? rho * point_polygon_form_factor(x, n, light.points) : 0.0;
+  };
+  MeshingOptions meshing;
+  meshing.max_edge = 0.25;
+  SceneModel model(scene, meshing);
+  LinearSolver solver(model, LinearOptions{});
+  solver.solve();
+  const SurfaceHierarchy& h = model.hierarchy(roof);
+  const auto& radiance = solver.vertex_radiance(roof);
+  // ∫|L − L_exact| dA over the roof, by a 10 × 10 barycentric rule per
+  // leaf, against ∫L_exact dA.
+  constexpr int kSteps = 10;
+  double error = 0.0, total = 0.0;
+  for (NodeId leaf : h.leaves()) {
+    const auto t = model.triangle(roof, leaf);
+    const auto& k = h.corners(leaf);
+    const Vec3 n = OpenMesh::cross(t[1] - t[0], t[2] - t[0]).normalized();
+    const double area = 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
+    const double weight = area / (kSteps * kSteps);
+    for (int i = 0; i < kSteps; ++i) {
+      for (int j = 0; i + j < kSteps; ++j) {
+        // Centroids of the sub-triangles: kSteps² of equal area.
+        for (int up = 0; up < (i + j + 1 < kSteps ? 2 : 1); ++up) {
+          const double a = (i + (up ? 2.0 : 1.0) / 3.0) / kSteps, b = (j + (up ? 2.0 : 1.0) / 3.0) / kSteps;
+          const Vec3 x = (1.0 - a - b) * t[0] + a * t[1] + b * t[2];
+          const double solved = (1.0 - a - b) * radiance[k[0]][0] + a * radiance[k[1]][0] + b * radiance[k[2]][0];
+          const double truth = exact(x, n);
+          error += weight * std::abs(solved - truth);
+          total += weight * truth;
+        }
+      }
+    }
+  }
+  ASSERT_GT(total, 0.0);
+  std::cout << "relative L1 error " << error / total << "\n";
+  // Measured: 0.34 %; 2.3 % when the initial mesh was remeshed across the
+  // ridge (its triangles then straddled the horizon).
+  EXPECT_LT(error / total, 0.01);
 }
 
 // A closed box of ρ = 0.7 with a light under its ceiling and an outward

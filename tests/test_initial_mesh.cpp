@@ -565,7 +565,9 @@ TEST(CurvedMeshing, DomeBoundaryIsCoarsenedAlongTheInputBoundary) {
 }
 
 TEST(CurvedMeshing, SeamVerticesSharedWithAnotherSurfaceStay) {
-  Surface s = sphere(4, true);
+  // Fine enough (bends of about 1.4°) that the remesher may coarsen it: a
+  // coarser dome keeps its bends, and with them every input vertex.
+  Surface s = sphere(6, true);
   // Pretend the western half of the rim is shared with another surface.
   std::map<std::pair<int, int>, int> uses;
   for (const auto& poly : s.polygons) {
@@ -640,6 +642,40 @@ TEST(CurvedMeshing, FinelyDividedTerrainGetsNoSliversAtItsBorder) {
   int off_input = 0;
   boundary_length_on_input(s, m, &off_input);
   EXPECT_EQ(off_input, 0);
+}
+
+// docs/design.md §4, "Initial meshing": an input edge where the surface bends
+// by more than 2° stays a line of the mesh, so each triangle lies in the
+// plane of an input polygon it overlaps, and the solver's surface is the one
+// the path tracer sees. The octahedral sphere bends by about 20° at its
+// edges; remeshed across them, its triangles would be chords.
+TEST(CurvedMeshing, BendsStayEdgesSoEveryTriangleLiesInAnInputFacet) {
+  const Surface s = sphere(2, false);
+  const TriMesh m = mesh_surface(s, with_h(0.2));
+  ASSERT_GT(m.n_faces(), s.polygons.size());
+  for (const auto f : m.faces()) {
+    const auto c = corners(m, f);
+    const Vec3 centroid = (c[0] + c[1] + c[2]) / 3.0;
+    const Vec3 normal = OpenMesh::cross(c[1] - c[0], c[2] - c[0]).normalized();
+    bool in_a_facet = false;
+    for (const auto& poly : s.polygons) {
+      const Vec3 &a = s.points[poly[0]], &b = s.points[poly[1]], &d = s.points[poly[2]];
+      const Vec3 n = OpenMesh::cross(b - a, d - a).normalized();
+      // The centroid inside the input triangle (barycentric signs) and every
+      // corner in its plane.
+      const double wa = OpenMesh::dot(OpenMesh::cross(b - centroid, d - centroid), n);
+      const double wb = OpenMesh::dot(OpenMesh::cross(d - centroid, a - centroid), n);
+      const double wc = OpenMesh::dot(OpenMesh::cross(a - centroid, b - centroid), n);
+      if (wa < 0 || wb < 0 || wc < 0) continue;
+      in_a_facet = std::all_of(c.begin(), c.end(), [&](const Vec3& p) {
+        return std::abs(OpenMesh::dot(p - a, n)) < 1e-9;
+      }) && OpenMesh::dot(normal, n) > 1.0 - 1e-9;
+      if (in_a_facet) break;
+    }
+    EXPECT_TRUE(in_a_facet) << "triangle " << f.idx() << " lies in no input facet";
+  }
+  // The surface is still meshed to the minimum density, not left as input.
+  EXPECT_LE(max_edge_length(m), 0.2 * (1 + 1e-6));
 }
 
 TEST(CurvedMeshing, Deterministic) {

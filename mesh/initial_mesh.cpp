@@ -74,7 +74,7 @@ constexpr double kCurvedTargetFraction = 0.75;
 // coarsened to the minimum density (docs/design.md §4, "Initial meshing").
 constexpr double kKeptBendDeg = 2.0;
 constexpr unsigned kRemeshIterations = 3;
-// A border or sharp-feature vertex whose two constrained edges turn by more
+// A border or bend vertex whose two constrained edges turn by more
 // than this stays fixed, so coarsening the line does not cut its corners.
 constexpr double kConstraintCornerDeg = 30.0;
 // No remeshed triangle may have a vertex closer than this fraction of its
@@ -804,7 +804,7 @@ void remesh(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& f
   for (const auto v : vertices(mesh)) put(constrained_vertex, v, false);
   for (const auto v : fixed) put(constrained_vertex, v, true);
   // Constrained edges are split and collapsed along themselves, so the
-  // border and sharp features keep their polyline; vertices where such
+  // border and the bends keep their polyline; vertices where such
   // lines meet or turn are kept where they are.
   for (const auto v : mesh.vertices()) {
     std::vector<Vec3> directions;

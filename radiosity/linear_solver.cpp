@@ -21,9 +21,10 @@ namespace lhr {
 
 namespace {
 
-// eps_vertex compares with at least this fraction of the adaptation
-// luminance, so that nodes in the dark do not refine without bound.
-constexpr double kVertexErrorFloor = 0.01;
+// eps_vertex and the facet-edge test compare with at least this fraction of
+// the adaptation luminance, so that nodes in the dark do not refine without
+// bound (the relative norm floors its errors at 1 % of the mean alike).
+constexpr double kRelativeErrorFloor = 0.01;
 
 // The initial vertices a node is interpolated from, following the midpoint
 // parents: 1 on an initial vertex, 2 on an initial edge, 3 inside an
@@ -937,7 +938,7 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
       const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
       const VertexId v = g.vertex(p.vertex);
       const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
-      const double floor = kVertexErrorFloor * adaptation_;
+      const double floor = kRelativeErrorFloor * adaptation_;
       return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
     };
     const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
@@ -1044,8 +1045,12 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
     // facet's plane and below the next one's), so the radiance S gives
     // jumps there, while the node holds the mean of the one-sided limits.
     // Every leaf touching the node then carries a ramp off by up to half the
-    // jump, and it is linear, so no second difference sees it. Judged like
-    // the edge test: that half jump on the display, over the leaf's pixels.
+    // jump, and it is linear, so no second difference sees it. No split
+    // makes that error smaller at the node, only the ramp narrower, so it is
+    // weighed by the leaf's pixels, and in the terms the image is judged in:
+    // the half jump relative to the node's radiance (floored, as the
+    // relative norm is, at a hundredth of the adaptation luminance). On the
+    // display, a few per cent on a dim facet fell under ε_pixel.
     const bool curved = !model_.scene().surfaces[r].planar;
     std::vector<float>* facet_spread_cache = nullptr;
     if (curved) {
@@ -1067,7 +1072,7 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
         if (std::isnan(spread)) spread = static_cast<float>(facet_spread(r, v, s));
         const double half_jump = 0.5 * b * spread;
         const double total = luminance(st.radiance[v]);
-        const double error = 0.5 * (tone.display(total + half_jump) - tone.display(std::max(0.0, total - half_jump)));
+        const double error = std::min(1.0, half_jump / std::max(total, kRelativeErrorFloor * adaptation_));
         if (ReceiverOracle::refines(error, pixels, options_.eps_pixel)) return true;
       }
       return false;

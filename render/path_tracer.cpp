@@ -483,6 +483,13 @@ Rgb PathTracer::sample_radiance(const SurfaceStart& start, std::uint64_t key) co
   return impl_->radiance_leaving(start.triangle, start.point, start.origin, rng);
 }
 
+Vec3 PathTracer::triangle_normal(int triangle) const {
+  if (triangle < 0 || triangle >= static_cast<int>(impl_->triangles.size())) {
+    throw std::invalid_argument("path tracer: no triangle " + std::to_string(triangle) + " in the scene");
+  }
+  return impl_->triangles[triangle].normal;
+}
+
 std::size_t PathTracer::triangle_count() const { return impl_->triangles.size(); }
 std::size_t PathTracer::emitter_triangle_count() const { return impl_->emitters.size(); }
 

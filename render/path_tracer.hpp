@@ -116,6 +116,9 @@ class PathTracer {
   // are a function of key alone.
   Rgb sample_radiance(const SurfaceStart& start, std::uint64_t key) const;
 
+  // The unit front normal of a scene triangle (a SurfaceStart's).
+  Vec3 triangle_normal(int triangle) const;
+
   std::size_t triangle_count() const;
   std::size_t emitter_triangle_count() const;
 

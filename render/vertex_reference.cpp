@@ -82,27 +82,77 @@ std::vector<VertexFrame> vertex_frames(const RawMesh& mesh) {
   return frames;
 }
 
-// Where a vertex's paths start: nudged into its widest face, unless another
-// face's start is clearly more open. A vertex on a contact line (a floor
-// vertex at the foot of a box, a ceiling vertex on the outline of a light
-// just below it) has faces on both sides, and the radiance jumps there: its
-// value is the limit from the side that can be seen, the face whose start
-// is least enclosed (widest first among equals).
-std::optional<SurfaceStart> vertex_start(const PathTracer& tracer, const Vec3& x, const VertexFrame& frame) {
+// Where a vertex's paths start, and with what share of its samples.
+//
+// A vertex on a contact line (a floor vertex at the foot of a box, a ceiling
+// vertex on the outline of a light just below it) has faces on both sides,
+// and the radiance jumps there: its value is the limit from the side that
+// can be seen, the face whose start is least enclosed (widest first among
+// equals). A vertex where a curved surface bends (docs/accuracy.md, "Facet
+// edges") has open faces in more than one input plane, and the radiance
+// jumps there too; its value is, as the scene contract defines a node's
+// there (docs/design.md §3), the mean of the one-sided limits, each plane
+// weighted by the corner angles its faces make at the vertex. So: per plane
+// the least enclosed start, and every plane whose start is not clearly more
+// enclosed than the best one shares the samples by its angle.
+struct VertexStarts {
+  std::vector<SurfaceStart> starts;
+  std::vector<double> cumulative;  // shares, summing to 1
+};
+
+std::optional<VertexStarts> vertex_starts(const PathTracer& tracer, const Vec3& x, const VertexFrame& frame) {
   constexpr double kClearlyMoreOpen = 0.125;
-  std::optional<SurfaceStart> best;
-  double best_enclosed = 2.0;
+  constexpr double kSamePlane = 1.0 - 1e-9;
+  struct Plane {
+    Vec3 normal;
+    SurfaceStart start;
+    double enclosed;
+    double angle;
+  };
+  std::vector<Plane> planes;
   for (const auto& [angle, centroid] : frame.faces) {
     std::optional<SurfaceStart> start = tracer.surface_start(x, frame.normal, centroid);
     if (!start) continue;
-    const double enclosed = tracer.enclosed_fraction(*start);
-    if (!best || enclosed < best_enclosed - kClearlyMoreOpen) {
-      best = start;
-      best_enclosed = enclosed;
+    const Vec3 normal = tracer.triangle_normal(start->triangle);
+    auto plane = std::find_if(planes.begin(), planes.end(),
+                              [&](const Plane& p) { return OpenMesh::dot(p.normal, normal) > kSamePlane; });
+    if (plane == planes.end()) {
+      planes.push_back({normal, *start, tracer.enclosed_fraction(*start), angle});
+      continue;
     }
-    if (best_enclosed == 0.0) break;
+    plane->angle += angle;
+    if (plane->enclosed == 0.0) continue;
+    const double enclosed = tracer.enclosed_fraction(*start);
+    if (enclosed < plane->enclosed - kClearlyMoreOpen) {
+      plane->start = *start;
+      plane->enclosed = enclosed;
+    }
   }
-  return best;
+  if (planes.empty()) return std::nullopt;
+  double best = planes.front().enclosed;
+  for (const Plane& p : planes) best = std::min(best, p.enclosed);
+  VertexStarts out;
+  double total = 0.0;
+  for (const Plane& p : planes) {
+    if (p.enclosed > best + kClearlyMoreOpen) continue;
+    out.starts.push_back(p.start);
+    total += p.angle;
+    out.cumulative.push_back(total);
+  }
+  for (double& c : out.cumulative) c /= total;
+  return out;
+}
+
+// Which start sample k of a vertex leaves from: a golden-ratio sequence over
+// the shares, so each start gets its share of any number of samples to
+// within one, the same whatever the thread count.
+const SurfaceStart& start_of_sample(const VertexStarts& v, int k) {
+  if (v.starts.size() == 1) return v.starts.front();
+  constexpr double kGolden = 0.6180339887498949;
+  const double u = std::fmod(0.5 + kGolden * static_cast<double>(k), 1.0);
+  const std::size_t i = static_cast<std::size_t>(std::lower_bound(v.cumulative.begin(), v.cumulative.end(), u) -
+                                                 v.cumulative.begin());
+  return v.starts[std::min(i, v.starts.size() - 1)];
 }
 
 // Per-vertex sums over the samples so far, in sample order.
@@ -129,12 +179,12 @@ VertexReference trace_vertex_reference(const PathTracer& tracer, const RawMesh& 
   // locator's slow fallback rather than all of them, always naming its
   // first vertex that lies on no surface.
   constexpr std::size_t kLocateChunk = 4096;
-  std::vector<std::optional<SurfaceStart>> starts(n);
+  std::vector<std::optional<VertexStarts>> starts(n);
   for (std::size_t begin = 0; begin < n; begin += kLocateChunk) {
     const std::size_t end = std::min(n, begin + kLocateChunk);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t v = range.begin(); v != range.end(); ++v) {
-        starts[v] = vertex_start(tracer, mesh.points[v], frames[v]);
+        starts[v] = vertex_starts(tracer, mesh.points[v], frames[v]);
       }
     });
     for (std::size_t v = begin; v < end; ++v) {
@@ -159,7 +209,8 @@ VertexReference trace_vertex_reference(const PathTracer& tracer, const RawMesh& 
         for (int k = first; k < last; ++k) {
           // Also within a vertex: at many samples per vertex one takes seconds.
           if (options.checkpoint && (k == first || k % 1024 == 0)) options.checkpoint();
-          const Rgb l = tracer.sample_radiance(*starts[v], sample_key(options.seed, v, static_cast<std::uint64_t>(k)));
+          const Rgb l = tracer.sample_radiance(start_of_sample(*starts[v], k),
+                                               sample_key(options.seed, v, static_cast<std::uint64_t>(k)));
           s.sum += l;
           const double lum = luminance(l);
           const double delta = lum - s.mean_luminance;

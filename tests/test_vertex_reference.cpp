@@ -218,6 +218,68 @@ TEST(VertexReference, AVertexJustOutsideItsSurfaceTakesTheNearestPoint) {
       << luminance(r.radiance[0]) << " against " << truth;
 }
 
+TEST(VertexReference, AVertexWhereACurvedSurfaceBendsIsTheMeanOfItsSides) {
+  // A roof of two facets bent down by 20° at the ridge x = 0 (one curved
+  // surface) and a light beside it, above the first facet's plane and below
+  // the second's: the radiance is ρ·Le·F on one side of the ridge and 0 on
+  // the other. On the ridge the scene contract defines a node's value as the
+  // mean of the two limits, each side weighted by its angle there (half and
+  // half on an edge; docs/design.md §3), and that is what the reference
+  // must hold, not one side's limit.
+  const double bend = 20.0 * M_PI / 180.0, c = std::cos(bend), s = std::sin(bend);
+  PolygonSoup soup;
+  Material roof, light;
+  roof.name = "roof";
+  roof.reflectance = Rgb(WalledReceiver::kRho, WalledReceiver::kRho, WalledReceiver::kRho);
+  light.name = "light";
+  light.reflectance = Rgb(0, 0, 0);
+  light.emission = Rgb(WalledReceiver::kKe, WalledReceiver::kKe, WalledReceiver::kKe);
+  soup.materials = {roof, light};
+  soup.groups = {"roof", "light"};
+  soup.points = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {c, 0, -s}, {c, 1, -s}};
+  soup.faces.push_back({{0, 1, 2, 3}, 0, 0, 0});
+  soup.faces.push_back({{1, 4, 5, 2}, 0, 0, 0});
+  const std::array<Vec3, 4> lamp = {Vec3(-2, 0, 0.1), Vec3(-2, 1, 0.1), Vec3(-2, 1, 0.5), Vec3(-2, 0, 0.5)};
+  test::add_quad(soup, lamp[0], lamp[1], lamp[2], lamp[3], 1, 1);
+  const Scene scene = test::scene_from_soup(soup, "roof");
+  // The exported mesh: 5 columns (two on each facet, one on the ridge) by 5
+  // rows, the ridge's vertices shared by both facets' triangles.
+  constexpr int kRows = 5;
+  const std::array<Vec3, 5> column = {Vec3(-1, 0, 0), Vec3(-0.5, 0, 0), Vec3(0, 0, 0), Vec3(0.5 * c, 0, -0.5 * s),
+                                      Vec3(c, 0, -s)};
+  RawMesh mesh;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < kRows; ++j) mesh.points.push_back(column[i] + Vec3(0, j / (kRows - 1.0), 0));
+  }
+  const auto at = [&](int i, int j) { return i * kRows + j; };
+  for (int i = 0; i + 1 < 5; ++i) {
+    for (int j = 0; j + 1 < kRows; ++j) {
+      mesh.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  const PathTracer tracer(scene);
+  PathTraceOptions options;
+  options.spp = 4096;
+  const VertexReference r = trace_vertex_reference(tracer, mesh, options);
+  const auto lit = [&](const Vec3& x) {
+    return WalledReceiver::kRho * WalledReceiver::kKe *
+           point_polygon_form_factor(x, Vec3(0, 0, 1), std::span<const Vec3>(lamp.data(), lamp.size()));
+  };
+  for (int j = 0; j < kRows; ++j) {
+    const Vec3& x = mesh.points[at(2, j)];
+    const double one_side = lit(x), truth = 0.5 * one_side;
+    ASSERT_GT(r.standard_error[at(2, j)], 0.0);
+    EXPECT_LT(std::abs(luminance(r.radiance[at(2, j)]) - truth), 4.5 * r.standard_error[at(2, j)])
+        << "ridge vertex " << j << ": " << luminance(r.radiance[at(2, j)]) << " against " << truth;
+    EXPECT_GT(std::abs(luminance(r.radiance[at(2, j)]) - one_side), 0.3 * one_side) << "ridge vertex " << j;
+    // Off the ridge each side has its own limit.
+    EXPECT_LT(std::abs(luminance(r.radiance[at(1, j)]) - lit(mesh.points[at(1, j)])),
+              4.5 * r.standard_error[at(1, j)] + 1e-12);
+    EXPECT_EQ(luminance(r.radiance[at(3, j)]), 0.0);
+  }
+}
+
 TEST(VertexReference, VerticesOffTheFacetsOfACurvedSurfaceAreFound) {
   // A receiver warped by w at one corner is a curved surface; the tracer
   // folds it along one diagonal, while the grid's centre and two edge

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <span>
 #include <stdexcept>
+#include <string>
 
 #include "io/mesh_io.hpp"
 #include "radiosity/form_factor.hpp"
@@ -107,6 +108,21 @@ void expect_within_standard_errors(const VertexReference& r, const std::vector<s
   const double rms_z = std::sqrt(sum_z2 / static_cast<double>(vertices.size()));
   EXPECT_GT(rms_z, 0.5);
   EXPECT_LT(rms_z, 1.5);
+}
+
+// An empty soup with WalledReceiver's two materials and groups: the
+// receiver (ρ = kRho) named `receiver`, then a light of Kd 0 and Ke kKe.
+PolygonSoup receiver_and_light_soup(const std::string& receiver) {
+  PolygonSoup soup;
+  Material r, light;
+  r.name = receiver;
+  r.reflectance = Rgb(WalledReceiver::kRho, WalledReceiver::kRho, WalledReceiver::kRho);
+  light.name = "light";
+  light.reflectance = Rgb(0, 0, 0);
+  light.emission = Rgb(WalledReceiver::kKe, WalledReceiver::kKe, WalledReceiver::kKe);
+  soup.materials = {r, light};
+  soup.groups = {receiver, "light"};
+  return soup;
 }
 
 bool on_boundary(const Vec3& p) {
@@ -227,15 +243,7 @@ TEST(VertexReference, AVertexWhereACurvedSurfaceBendsIsTheMeanOfItsSides) {
   // half on an edge; docs/design.md §3), and that is what the reference
   // must hold, not one side's limit.
   const double bend = 20.0 * M_PI / 180.0, c = std::cos(bend), s = std::sin(bend);
-  PolygonSoup soup;
-  Material roof, light;
-  roof.name = "roof";
-  roof.reflectance = Rgb(WalledReceiver::kRho, WalledReceiver::kRho, WalledReceiver::kRho);
-  light.name = "light";
-  light.reflectance = Rgb(0, 0, 0);
-  light.emission = Rgb(WalledReceiver::kKe, WalledReceiver::kKe, WalledReceiver::kKe);
-  soup.materials = {roof, light};
-  soup.groups = {"roof", "light"};
+  PolygonSoup soup = receiver_and_light_soup("roof");
   soup.points = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {c, 0, -s}, {c, 1, -s}};
   soup.faces.push_back({{0, 1, 2, 3}, 0, 0, 0});
   soup.faces.push_back({{1, 4, 5, 2}, 0, 0, 0});
@@ -287,15 +295,7 @@ TEST(VertexReference, VerticesOffTheFacetsOfACurvedSurfaceAreFound) {
   // fold of a faceted surface do). Their radiance is the receiver's there,
   // which w barely changes.
   constexpr double kWarp = 1e-2;  // centre 5e-3 off the facets: a coarse sphere's sag
-  PolygonSoup soup;
-  Material receiver, light;
-  receiver.name = "receiver";
-  receiver.reflectance = Rgb(WalledReceiver::kRho, WalledReceiver::kRho, WalledReceiver::kRho);
-  light.name = "light";
-  light.reflectance = Rgb(0, 0, 0);
-  light.emission = Rgb(WalledReceiver::kKe, WalledReceiver::kKe, WalledReceiver::kKe);
-  soup.materials = {receiver, light};
-  soup.groups = {"receiver", "light"};
+  PolygonSoup soup = receiver_and_light_soup("receiver");
   test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, kWarp), Vec3(0, 1, 0), 0, 0);
   const auto e = WalledReceiver::emitter();
   test::add_quad(soup, e[0], e[1], e[2], e[3], 1, 1);

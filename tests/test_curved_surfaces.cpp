@@ -218,6 +218,21 @@ double roof_l1_error(const SceneModel& model, int roof, const std::vector<Rgb>& 
   return total > 0.0 ? error / total : 0.0;
 }
 
+// Two unit facets meeting at the ridge x = 0, the first in z = 0 facing
+// +z, the second bent down by 20° (one curved surface, material 0 "roof" of
+// reflectance rho), and material 1 "light" (Kd 0, Le 1) for the caller's
+// lamp.
+PolygonSoup roof_soup(double rho) {
+  const double bend = 20.0 * M_PI / 180.0, c = std::cos(bend), s = std::sin(bend);
+  PolygonSoup soup;
+  soup.materials = {grey("roof", rho), grey("light", 0.0, 1.0)};
+  soup.groups = {"roof", "light"};
+  soup.points = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {c, 0, -s}, {c, 1, -s}};
+  soup.faces.push_back({{0, 1, 2, 3}, 0, 0, 0});
+  soup.faces.push_back({{1, 4, 5, 2}, 0, 0, 0});
+  return soup;
+}
+
 // A roof of two facets meeting at a ridge, bent down by 20° (one curved
 // surface), and a light beside it that lies above the first facet's plane
 // and below the second's: the radiance jumps from ρ·Le·F to 0 across the
@@ -227,14 +242,8 @@ double roof_l1_error(const SceneModel& model, int roof, const std::vector<Rgb>& 
 // has the ridge as an edge at all. Truth: L = ρ·Le·F(x) on the lit facet,
 // 0 on the other.
 TEST(CurvedSurfaces, RadianceJumpingAtAFacetEdgeStaysAtTheEdge) {
-  const double rho = 0.5, bend = 20.0 * M_PI / 180.0;
-  const double c = std::cos(bend), s = std::sin(bend);
-  PolygonSoup soup;
-  soup.materials = {grey("roof", rho), grey("light", 0.0, 1.0)};
-  soup.groups = {"roof", "light"};
-  soup.points = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {c, 0, -s}, {c, 1, -s}};
-  soup.faces.push_back({{0, 1, 2, 3}, 0, 0, 0});
-  soup.faces.push_back({{1, 4, 5, 2}, 0, 0, 0});
+  const double rho = 0.5;
+  PolygonSoup soup = roof_soup(rho);
   test::add_quad(soup, Vec3(-2, 0, 0.1), Vec3(-2, 1, 0.1), Vec3(-2, 1, 0.5), Vec3(-2, 0, 0.5), 1, 1);
   const Scene scene = test::scene_from_soup(soup, "roof");
   const int roof = scene.materials[scene.surfaces[0].material].name == "roof" ? 0 : 1;
@@ -263,14 +272,8 @@ TEST(CurvedSurfaces, RadianceJumpingAtAFacetEdgeStaysAtTheEdge) {
 // the field is linear, so the paper's second difference sees nothing; only
 // the facet-edge test (docs/accuracy.md, "Facet edges") narrows the ramps.
 TEST(CurvedSurfaces, EvenlyLitFacetsAreRefinedTowardTheirRidge) {
-  const double rho = 0.5, bend = 20.0 * M_PI / 180.0;
-  const double c = std::cos(bend), s = std::sin(bend);
-  PolygonSoup soup;
-  soup.materials = {grey("roof", rho), grey("light", 0.0, 1.0)};
-  soup.groups = {"roof", "light"};
-  soup.points = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {c, 0, -s}, {c, 1, -s}};
-  soup.faces.push_back({{0, 1, 2, 3}, 0, 0, 0});
-  soup.faces.push_back({{1, 4, 5, 2}, 0, 0, 0});
+  const double rho = 0.5;
+  PolygonSoup soup = roof_soup(rho);
   // 8 × 8, 14 away at 45° above the first facet's side, facing the roof:
   // the first facet sees it at 45° from its normal, the second at 65°.
   const Vec3 centre(-10, 0.5, 10), along(std::sqrt(0.5) * 8.0, 0.0, std::sqrt(0.5) * 8.0), across(0, 8, 0);

@@ -1,6 +1,8 @@
 #pragma once
 // Small scenes built in code for solver tests.
 
+#include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,29 @@ inline Scene closed_cube(const Material& walls, const Material& top, const std::
   add_quad(soup, p000, p010, p011, p001, 0, 0);  // x = 0, faces +x
   add_quad(soup, p100, p101, p111, p110, 0, 0);  // x = 1, faces −x
   return scene_from_soup(soup, name);
+}
+
+// Power absorbed by all surfaces: π ∫ (1 − ρ) E_in dA with E_in/π = (L − Le)/ρ,
+// the linear interpolant integrated exactly over each leaf.
+inline Rgb absorbed_power(const SceneModel& model, const std::function<std::vector<Rgb>(int)>& vertex_values) {
+  Rgb absorbed(0, 0, 0);
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    const Material& m = model.material(s);
+    const SurfaceHierarchy& h = model.hierarchy(s);
+    const ConformingMesh mesh = h.conforming_mesh();
+    const std::vector<Rgb> values = vertex_values(s);
+    for (const auto fh : mesh.mesh.faces()) {
+      Rgb mean(0, 0, 0);
+      for (const auto vh : mesh.mesh.fv_range(fh)) mean += values[vh.idx()] / 3.0;
+      const double a = mesh.mesh.calc_face_area(fh);
+      for (int c = 0; c < 3; ++c) {
+        if (m.reflectance[c] > 0) {
+          absorbed[c] += M_PI * a * (1 - m.reflectance[c]) / m.reflectance[c] * (mean[c] - m.emission[c]);
+        }
+      }
+    }
+  }
+  return absorbed;
 }
 
 // A grey material: reflectance rho and emission e in every channel.

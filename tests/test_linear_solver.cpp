@@ -560,29 +560,6 @@ TEST(LinearSolver, SameResultWhateverTheThreadCount) {
 namespace lhr {
 namespace {
 
-// Power absorbed by all surfaces: π ∫ (1 − ρ) E_in dA with E_in/π = (L − Le)/ρ,
-// the linear interpolant integrated exactly over each leaf.
-Rgb absorbed_power(const SceneModel& model, const std::function<std::vector<Rgb>(int)>& vertex_values) {
-  Rgb absorbed(0, 0, 0);
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    const Material& m = model.material(s);
-    const SurfaceHierarchy& h = model.hierarchy(s);
-    const ConformingMesh mesh = h.conforming_mesh();
-    const std::vector<Rgb> values = vertex_values(s);
-    for (const auto fh : mesh.mesh.faces()) {
-      Rgb mean(0, 0, 0);
-      for (const auto vh : mesh.mesh.fv_range(fh)) mean += values[vh.idx()] / 3.0;
-      const double a = mesh.mesh.calc_face_area(fh);
-      for (int c = 0; c < 3; ++c) {
-        if (m.reflectance[c] > 0) {
-          absorbed[c] += M_PI * a * (1 - m.reflectance[c]) / m.reflectance[c] * (mean[c] - m.emission[c]);
-        }
-      }
-    }
-  }
-  return absorbed;
-}
-
 // Measured: 480095 / 486336, 352433 / 355197, 124382 / 125256 (linear /
 // classical, per channel): within 1.3 %. Both shoot from whole surfaces
 // averaged over their open part only (root_exposure).
@@ -595,7 +572,7 @@ TEST(LinearSolver, AgreesWithClassicalOnAbsorbedPowerInTheCornellBox) {
   options.view = test::camera_view(linear_model, 128);
   LinearSolver linear(linear_model, options);
   linear.solve();
-  const Rgb from_linear = absorbed_power(linear_model, [&](int s) {
+  const Rgb from_linear = test::absorbed_power(linear_model, [&](int s) {
     return linear.vertex_radiance(s, linear_model.hierarchy(s).conforming_mesh());
   });
   SceneModel classical_model(loaded.scene, meshing);

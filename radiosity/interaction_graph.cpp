@@ -7,6 +7,22 @@ namespace lhr {
 
 InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, const SurfaceHierarchy& receiver)
     : shooter_(shooter_surface), receiver_(receiver_surface) {
+  // Sized exactly: a scene of many small shooters holds one graph per
+  // shooter and receiver, most of which never split, and growth by doubling
+  // would leave up to half of each graph's per-vertex tables unused.
+  std::vector<VertexId> initial;
+  initial.reserve(3 * receiver.num_roots());
+  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
+    for (VertexId v : receiver.corners(receiver.root(static_cast<int>(f)))) initial.push_back(v);
+  }
+  std::sort(initial.begin(), initial.end());
+  initial.erase(std::unique(initial.begin(), initial.end()), initial.end());
+  vertices_.reserve(initial.size());
+  links_.reserve(initial.size());
+  gathered_.reserve(initial.size());
+  if (!initial.empty()) index_.reserve(static_cast<std::size_t>(initial.back()) + 1);
+  leaves_.reserve(receiver.num_roots());
+  state_.reserve(receiver.num_roots());
   for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
     set_state(receiver.root(static_cast<int>(f)), NodeState::kLeaf);
     for (VertexId v : receiver.corners(receiver.root(static_cast<int>(f)))) {

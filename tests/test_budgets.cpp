@@ -17,9 +17,11 @@
 #include <nlohmann/json.hpp>
 
 #include "io/scene_loader.hpp"
+#include "mesh/hierarchy.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "mesh/validate.hpp"
 #include "radiosity/classical_solver.hpp"
+#include "radiosity/interaction_graph.hpp"
 #include "radiosity/linear_solver.hpp"
 #include "radiosity/memory_budget.hpp"
 #include "scene_fixtures.hpp"
@@ -290,6 +292,41 @@ TEST(Budgets, MaxMemoryTakesSizesAndRejectsNonsense) {
     EXPECT_NE(r.err.find("--max-memory must be a size"), std::string::npos) << r.err;
     EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
   }
+}
+
+// A scene of many small shooters (thousands of lamps over one floor) holds
+// one graph per lamp, most of which never split: each must cost its
+// receiver's initial vertices and roots and nothing more. Growth by doubling
+// left up to half of every per-vertex table unused (10 000 lamps: 637 MB of
+// graphs for 104 MB of links, now 362 MB; docs/robustness.md, "Budgets").
+TEST(Budgets, AGraphOnItsReceiversRootsHoldsNoSpareRoom) {
+  constexpr int kSide = 21;  // 441 vertices, 800 roots: not a power of two
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> vh;
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) vh.push_back(mesh.add_vertex(Vec3(i, 0, j)));
+  }
+  for (int j = 0; j + 1 < kSide; ++j) {
+    for (int i = 0; i + 1 < kSide; ++i) {
+      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
+      ASSERT_TRUE(mesh.add_face(vh[a], vh[c], vh[d]).is_valid());
+      ASSERT_TRUE(mesh.add_face(vh[a], vh[d], vh[b]).is_valid());
+    }
+  }
+  SurfaceHierarchy receiver(std::move(mesh));
+  // Other graphs have refined the receiver already: its vertex and node
+  // tables are longer than this graph needs.
+  for (int f = 0; f < 50; ++f) receiver.split(receiver.root(f));
+  const InteractionGraph graph(0, 1, receiver);
+  const std::size_t vertices = static_cast<std::size_t>(kSide) * kSide;
+  const std::size_t roots = receiver.num_roots();
+  ASSERT_EQ(graph.num_vertices(), vertices);
+  ASSERT_EQ(graph.num_leaves(), roots);
+  // Per vertex: its id, its place in the dense index, its link list and its
+  // gathered value; per root: its state and its place among the leaves.
+  const std::size_t per_vertex = sizeof(VertexId) + sizeof(std::int32_t) + sizeof(std::vector<GraphLink>) + sizeof(Rgb);
+  const std::size_t per_root = sizeof(std::uint8_t) + sizeof(NodeId);
+  EXPECT_LE(graph.bytes(), sizeof(InteractionGraph) + vertices * per_vertex + roots * per_root);
 }
 
 }  // namespace

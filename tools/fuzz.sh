@@ -23,22 +23,37 @@ mkdir -p "$crashes"
 # intercept_tls_get_addr=0: see tools/test-sanitized.sh.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:intercept_tls_get_addr=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-failed=()
-for name in $targets; do
+# One fuzzer per core at a time: each still runs its full time, and the
+# stage takes about a core's share of their sum (docs/robustness.md).
+fuzz_one() {
+  local name=$1
   # New inputs go to a scratch corpus in the build directory; the seed
   # corpus in the repository is only read.
-  work="$build/fuzz-corpus/$name"
-  log="$build/fuzz-$name.log"
+  local work="$build/fuzz-corpus/$name"
+  local log="$build/fuzz-$name.log"
   mkdir -p "$work"
-  status=0
+  local status=0
   # -timeout catches hangs, -rss_limit_mb and -malloc_limit_mb huge allocations.
   "$build/tests/fuzz/fuzz_$name" "$work" "tests/fuzz/corpus/$name" \
     -max_total_time="$seconds" -max_len=4096 -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
     -dict="tests/fuzz/$name.dict" -artifact_prefix="$crashes/fuzz_$name-" -print_final_stats=1 \
     >"$log" 2>&1 || status=$?
+  echo "$status" >"$build/fuzz-$name.status"
+}
+jobs_max=$(nproc)
+for name in $targets; do
+  rm -f "$build/fuzz-$name.status"
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do wait -n || true; done
+  fuzz_one "$name" &
+done
+wait
+failed=()
+for name in $targets; do
+  log="$build/fuzz-$name.log"
+  status=$(cat "$build/fuzz-$name.status" 2>/dev/null || echo "no status")
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
   echo "fuzz_$name: ${runs:-?} executions in ${seconds} s, exit $status"
-  if [ "$status" -ne 0 ]; then
+  if [ "$status" != 0 ]; then
     failed+=("$name")
     grep -E "ERROR|FUZZ FINDING|SUMMARY|Test unit written" "$log" | head -n 8 >&2 || true
   fi

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "render/scene_solution.hpp"
@@ -80,6 +81,7 @@ inline MeshingOptions meshing_options_from(const po::variables_map& vm, const Sc
   meshing.max_edge = vm.count("max-edge") ? vm["max-edge"].as<double>()
                                           : scene.settings.max_edge.value_or(default_max_edge(scene));
   meshing.min_angle_deg = vm["min-angle"].as<double>();
+  meshing.checkpoint = throw_if_interrupted;
   try {
     check_meshing_options(meshing, OptionStyle::kFlag);
   } catch (const std::invalid_argument& e) {

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -732,14 +734,46 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options, const
 
 // Reads and writes OpenMesh points as CGAL points in double precision; the
 // adapter's own map rounds written points to float.
+// What the caller's checkpoint threw, carried past the meshing code's own
+// `catch (const std::exception&)` (the contact-line fallback, the surface's
+// name added to errors) and rethrown unchanged by mesh_surface.
+struct CheckpointThrew {
+  std::exception_ptr thrown;
+};
+
+// CGAL's remeshing has no hook of its own; it reads every vertex position
+// through the point map, so the map calls the checkpoint every so many reads.
+class MeshingCheckpoint {
+ public:
+  explicit MeshingCheckpoint(const std::function<void()>& checkpoint) : checkpoint_(checkpoint) {}
+  void operator()() const {
+    if (!checkpoint_) return;
+    try {
+      checkpoint_();
+    } catch (...) {
+      throw CheckpointThrew{std::current_exception()};
+    }
+  }
+  void tick() {
+    if (++reads_ % kReadsPerCheck == 0) (*this)();
+  }
+
+ private:
+  static constexpr std::uint64_t kReadsPerCheck = 1 << 14;
+  const std::function<void()>& checkpoint_;
+  std::uint64_t reads_ = 0;
+};
+
 struct PointMap {
   using key_type = boost::graph_traits<TriMesh>::vertex_descriptor;
   using value_type = Kernel::Point_3;
   using reference = Kernel::Point_3;
   using category = boost::read_write_property_map_tag;
   TriMesh* mesh = nullptr;
+  MeshingCheckpoint* checkpoint = nullptr;
 
   friend value_type get(const PointMap& m, key_type v) {
+    if (m.checkpoint != nullptr) m.checkpoint->tick();
     const Vec3& p = m.mesh->point(v);
     return value_type(p[0], p[1], p[2]);
   }
@@ -785,14 +819,14 @@ double edge_length(const TriMesh& mesh, boost::graph_traits<TriMesh>::edge_descr
 
 // `fixed` vertices are neither moved nor removed: the ends of seam edges,
 // which another surface shares, and corners of the open border.
-void remesh(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed) {
+void remesh(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed, MeshingCheckpoint& checkpoint) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_halfedge_status();
   mesh.request_face_status();
 
-  const PointMap points{&mesh};
+  const PointMap points{&mesh, &checkpoint};
   EdgeFlagMap constrained_edge;
   constrained_edge.mesh = &mesh;
   VertexFlagMap constrained_vertex;
@@ -834,6 +868,7 @@ void remesh(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& f
       if (edge_length(mesh, e) > h) to_split.push_back(e);
     }
     if (to_split.empty()) break;
+    checkpoint();
     PMP::split_long_edges(to_split, h * (1.0 - 1e-12), mesh,
                           CGAL::parameters::edge_is_constrained_map(constrained_edge).vertex_point_map(points));
   }
@@ -868,7 +903,10 @@ TriMesh mesh_curved(const Surface& surface, const MeshingOptions& options) {
     fixed.push_back(handle.at(a));
     fixed.push_back(handle.at(b));
   }
-  remesh(mesh, h, fixed);
+  MeshingCheckpoint checkpoint(options.checkpoint);
+  checkpoint();
+  remesh(mesh, h, fixed, checkpoint);
+  checkpoint();
   mesh.garbage_collection();
   // CGAL's Euler operations do not keep OpenMesh's invariant that a boundary
   // vertex's outgoing halfedge is a boundary one; is_boundary(v) relies on it.
@@ -918,6 +956,8 @@ TriMesh mesh_surface(const Surface& surface, const MeshingOptions& options, cons
       }
     }
     return mesh_planar(surface, options, {}, 0.0);
+  } catch (const CheckpointThrew& stop) {
+    std::rethrow_exception(stop.thrown);
   } catch (const std::exception& e) {
     throw std::runtime_error("surface '" + surface.name + "': " + e.what());
   }

@@ -1,6 +1,8 @@
 #pragma once
 // Initial meshing to a minimum density (paper §4.1, fig. 6c; docs/design.md §4).
 
+#include <functional>
+
 #include "mesh/contact_lines.hpp"
 #include "mesh/scene.hpp"
 #include "mesh/types.hpp"
@@ -10,6 +12,10 @@ namespace lhr {
 struct MeshingOptions {
   double max_edge = 0.0;          // h: no output edge longer than this (plus rounding)
   double min_angle_deg = 20.0;    // lower bound on every angle the input boundary does not force smaller
+  // Called often while a surface is meshed (inside CGAL's remeshing of a
+  // curved surface too); whatever it throws leaves mesh_surface unchanged,
+  // so a signal stops a long meshing within a second (docs/robustness.md).
+  std::function<void()> checkpoint;
 };
 
 // h when the user gives none: a fraction of the scene's bounding-box diagonal.

@@ -687,6 +687,39 @@ TEST(CurvedMeshing, Deterministic) {
   for (const auto v : a.vertices()) EXPECT_EQ(a.point(v), b.point(v));
 }
 
+// A signal must stop the meshing of a large curved surface within a second,
+// and CGAL's remeshing, one call of many seconds on 10⁶ triangles, has no
+// hook of its own: the checkpoint is called from inside it, and what it
+// throws leaves mesh_surface as it was thrown (docs/robustness.md,
+// "Interrupted runs").
+TEST(CurvedMeshing, TheCheckpointIsCalledInsideRemeshingAndWhatItThrowsPassesThrough) {
+  const Surface s = sphere(6, false);  // 32 768 triangles, coarsened to h
+  MeshingOptions o = with_h(0.3);
+  int calls = 0;
+  o.checkpoint = [&] { ++calls; };
+  const TriMesh full = mesh_surface(s, o);
+  check_curved_common(s, o, full);
+  // Around the remeshing itself and between its split rounds: a few calls.
+  // The rest come from inside it.
+  EXPECT_GT(calls, 20) << "calls inside CGAL's remeshing";
+
+  struct Stop : std::runtime_error {
+    Stop() : std::runtime_error("stop requested") {}
+  };
+  const int stop_at = calls / 2;
+  int seen = 0;
+  o.checkpoint = [&] {
+    if (++seen == stop_at) throw Stop();
+  };
+  try {
+    mesh_surface(s, o);
+    ADD_FAILURE() << "the checkpoint's exception should end the meshing";
+  } catch (const Stop& e) {
+    EXPECT_STREQ(e.what(), "stop requested") << "not renamed as a meshing error of the surface";
+  }
+  EXPECT_EQ(seen, stop_at) << "nothing ran the checkpoint after it threw";
+}
+
 // ---------------------------------------------------------------------------
 // Errors and defaults.
 

@@ -9,6 +9,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
 #include <thread>
 
 #include "test_support.hpp"
@@ -171,6 +175,43 @@ TEST(Interrupt, SignalMidMeshExitsCleanlyAndLeavesNoTemporary) {
     EXPECT_EQ(test::read_text(dir / "out" / "mesh.ply"), "earlier result");
     EXPECT_EQ(test::file_names(dir / "out"), std::vector<std::string>{"mesh.ply"}) << "no new, partial or temporary file";
   }
+}
+
+TEST(Interrupt, SignalMidCurvedMeshingStopsWithinASecond) {
+  // A terrain of 320 000 triangles, one curved surface: CGAL's remeshing of
+  // it is one call of seconds, which used to run to its end before the
+  // signal was seen (docs/robustness.md, "Interrupted runs").
+  const auto dir = test::fresh_dir("interrupt_curved");
+  constexpr int kSide = 401;
+  std::string obj;
+  obj.reserve(40u * kSide * kSide);
+  char line[96];
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) {
+      const double x = 10.0 * i / (kSide - 1), z = 10.0 * j / (kSide - 1);
+      std::snprintf(line, sizeof line, "v %.5f %.5f %.5f\n", x, 0.3 * std::sin(1.3 * x) * std::cos(0.9 * z), z);
+      obj += line;
+    }
+  }
+  for (int j = 0; j + 1 < kSide; ++j) {
+    for (int i = 0; i + 1 < kSide; ++i) {
+      const int a = j * kSide + i + 1, b = a + 1, c = a + kSide, d = c + 1;
+      std::snprintf(line, sizeof line, "f %d %d %d\nf %d %d %d\n", a, c, d, a, d, b);
+      obj += line;
+    }
+  }
+  test::write_text(dir / "terrain.obj", obj);
+  std::filesystem::create_directories(dir / "out");
+  const Interrupted r = interrupt_run(
+      dir, {"mesh", (dir / "terrain.obj").string(), "--out", (dir / "out" / "mesh.ply").string()}, "", SIGTERM,
+      std::chrono::milliseconds(1500));
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  RecordProperty("seconds_to_stop", std::to_string(r.seconds_to_stop));
+  if (kTimingMeaningful) {
+    EXPECT_LT(r.seconds_to_stop, 1.0);
+  }
+  EXPECT_TRUE(test::file_names(dir / "out").empty()) << "no new, partial or temporary file";
 }
 
 }  // namespace

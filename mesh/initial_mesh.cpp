@@ -732,8 +732,6 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options, const
 // ---------------------------------------------------------------------------
 // Curved surfaces.
 
-// Reads and writes OpenMesh points as CGAL points in double precision; the
-// adapter's own map rounds written points to float.
 // What the caller's checkpoint threw, carried past the meshing code's own
 // `catch (const std::exception&)` (the contact-line fallback, the surface's
 // name added to errors) and rethrown unchanged by mesh_surface.
@@ -764,6 +762,8 @@ class MeshingCheckpoint {
   std::uint64_t reads_ = 0;
 };
 
+// Reads and writes OpenMesh points as CGAL points in double precision; the
+// adapter's own map rounds written points to float.
 struct PointMap {
   using key_type = boost::graph_traits<TriMesh>::vertex_descriptor;
   using value_type = Kernel::Point_3;

@@ -18,7 +18,7 @@
 #include <optional>
 #include <vector>
 
-#include "io/image_io.hpp"
+#include "mesh/image.hpp"
 #include "mesh/scene.hpp"
 
 namespace lhr {

@@ -1,4 +1,4 @@
-#include "render/bench_plan.hpp"
+#include "apps/bench/bench_plan.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/mesh_io.hpp"
+#include "mesh/export_mesh.hpp"
 #include "mesh/hierarchy.hpp"
 #include "mesh/image.hpp"
 #include "mesh/scene.hpp"

@@ -12,6 +12,7 @@
 
 #include "io/scene_generator.hpp"
 #include "io/scene_loader.hpp"
+#include "mesh/hierarchy_check.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "mesh/surfaces.hpp"
 #include "mesh/validate.hpp"

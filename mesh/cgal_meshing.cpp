@@ -220,33 +220,27 @@ struct PointMap {
 // Constrained-or-not flags on OpenMesh properties, so they follow the mesh
 // through splits; CGAL's dynamic bool maps do not compile against OpenMesh's
 // std::vector<bool> storage.
-struct EdgeFlagMap {
-  using key_type = boost::graph_traits<TriMesh>::edge_descriptor;
+OpenMesh::EdgeHandle flag_handle(const TriMesh& mesh, boost::graph_traits<TriMesh>::edge_descriptor e) {
+  return mesh.edge_handle(e.halfedge());
+}
+TriMesh::VertexHandle flag_handle(const TriMesh&, TriMesh::VertexHandle v) { return v; }
+
+template <typename Key, typename Property>
+struct FlagMap {
+  using key_type = Key;
   using value_type = bool;
   using reference = bool;
   using category = boost::read_write_property_map_tag;
   TriMesh* mesh = nullptr;
-  OpenMesh::EPropHandleT<unsigned char> prop;
+  Property prop;
 
-  friend bool get(const EdgeFlagMap& m, key_type e) {
-    return m.mesh->property(m.prop, m.mesh->edge_handle(e.halfedge())) != 0;
-  }
-  friend void put(const EdgeFlagMap& m, key_type e, bool value) {
-    m.mesh->property(m.prop, m.mesh->edge_handle(e.halfedge())) = value ? 1 : 0;
+  friend bool get(const FlagMap& m, key_type k) { return m.mesh->property(m.prop, flag_handle(*m.mesh, k)) != 0; }
+  friend void put(const FlagMap& m, key_type k, bool value) {
+    m.mesh->property(m.prop, flag_handle(*m.mesh, k)) = value ? 1 : 0;
   }
 };
-
-struct VertexFlagMap {
-  using key_type = boost::graph_traits<TriMesh>::vertex_descriptor;
-  using value_type = bool;
-  using reference = bool;
-  using category = boost::read_write_property_map_tag;
-  TriMesh* mesh = nullptr;
-  OpenMesh::VPropHandleT<unsigned char> prop;
-
-  friend bool get(const VertexFlagMap& m, key_type v) { return m.mesh->property(m.prop, v) != 0; }
-  friend void put(const VertexFlagMap& m, key_type v, bool value) { m.mesh->property(m.prop, v) = value ? 1 : 0; }
-};
+using EdgeFlagMap = FlagMap<boost::graph_traits<TriMesh>::edge_descriptor, OpenMesh::EPropHandleT<unsigned char>>;
+using VertexFlagMap = FlagMap<boost::graph_traits<TriMesh>::vertex_descriptor, OpenMesh::VPropHandleT<unsigned char>>;
 
 double edge_length(const TriMesh& mesh, boost::graph_traits<TriMesh>::edge_descriptor e) {
   return mesh.calc_edge_length(mesh.edge_handle(e.halfedge()));

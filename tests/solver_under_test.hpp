@@ -11,6 +11,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -57,6 +58,8 @@ struct MethodSettings {
   // The method's own refinement threshold: linear ε_link, classical ε_BF.
   double eps = 0.0;
   int visibility_samples = 0;
+  int max_iterations = 0;
+  bool refine = true;  // false: no link is refined (every threshold out of reach)
   // Every leaf of surface `presplit_surface` split `presplit_levels` times
   // before the solve, for a method whose refinement would not make the
   // receiver fine enough by itself.
@@ -78,22 +81,12 @@ class SolverUnderTest {
       }
     }
     switch (method) {
-      case Method::kLinear: {
-        LinearOptions options;
-        if (settings.tolerance > 0) options.tolerance = settings.tolerance;
-        if (settings.eps > 0) options.eps_link = settings.eps;
-        if (settings.visibility_samples > 0) options.visibility_samples = settings.visibility_samples;
-        linear_ = std::make_unique<LinearSolver>(*model_, options);
+      case Method::kLinear:
+        linear_ = std::make_unique<LinearSolver>(*model_, options_from(settings, &LinearOptions::eps_link));
         break;
-      }
-      case Method::kClassical: {
-        ClassicalOptions options;
-        if (settings.tolerance > 0) options.tolerance = settings.tolerance;
-        if (settings.eps > 0) options.eps_bf = settings.eps;
-        if (settings.visibility_samples > 0) options.visibility_samples = settings.visibility_samples;
-        classical_ = std::make_unique<ClassicalSolver>(*model_, options);
+      case Method::kClassical:
+        classical_ = std::make_unique<ClassicalSolver>(*model_, options_from(settings, &ClassicalOptions::eps_bf));
         break;
-      }
     }
   }
 
@@ -160,6 +153,8 @@ class SolverUnderTest {
     return classical_->stats().links > n * n ? classical_->stats().links - n * n : 0;
   }
 
+  int iterations() const { return linear_ ? linear_->stats().iterations : classical_->stats().iterations; }
+
   // The deepest level any surface's hierarchy reached.
   int max_level() const {
     int level = 0;
@@ -168,6 +163,21 @@ class SolverUnderTest {
   }
 
  private:
+  // The settings every method has, and `eps` as the one named.
+  template <typename Options>
+  static Options options_from(const MethodSettings& settings, double Options::*eps) {
+    Options options;
+    if (settings.tolerance > 0) options.tolerance = settings.tolerance;
+    if (settings.eps > 0) options.*eps = settings.eps;
+    if (settings.visibility_samples > 0) options.visibility_samples = settings.visibility_samples;
+    if (settings.max_iterations > 0) options.max_iterations = settings.max_iterations;
+    if (!settings.refine) options.*eps = 1e9;
+    if constexpr (std::is_same_v<Options, LinearOptions>) {
+      if (!settings.refine) options.eps_pixel = 1e9;
+    }
+    return options;
+  }
+
   Method method_;
   Scene scene_;  // the model keeps a pointer to it
   std::unique_ptr<SceneModel> model_;

@@ -1,7 +1,7 @@
 // The checks every radiosity method must pass, run against each of them (as
 // pbrt-v4 runs every analytic scene against every integrator): the furnace in
-// a cube and in a sphere, a receiver under a square emitter, and a closed box
-// that absorbs what it emits. Each method is reached through
+// a cube and in a sphere, a receiver under a square emitter, a closed box
+// that absorbs what it emits, and a white furnace that never converges. Each method is reached through
 // tests/solver_under_test.hpp, so a new method gets these checks by being
 // added to every_method() there.
 
@@ -139,6 +139,20 @@ TEST_P(AnalyticScenes, ClosedBoxAbsorbsAllItEmits) {
   EXPECT_NEAR(absorbed[0], emitted, relative_tolerance[GetParam()] * emitted)
       << "absorbed / emitted = " << absorbed[0] / emitted;
   EXPECT_GE(solver.max_level(), 2) << "the balance must hold across a refined hierarchy";
+}
+
+TEST_P(AnalyticScenes, WhiteFurnaceStopsAtTheIterationLimit) {
+  // ρ = 1 (Kd 1 is accepted, docs/design.md §3) in a closed box: nothing absorbs,
+  // so each Jacobi iteration adds one more bounce of Le and there is no
+  // fixed point; L after n gathers is Le·(n + 1) where the form factors sum
+  // to 1. Every method ends at its iteration limit with that finite value.
+  SolverUnderTest solver(GetParam(), test::furnace_cube(1.0, 1.0),
+                         {.max_edge = 1.0, .max_iterations = 20, .refine = false});
+  solver.solve();
+  EXPECT_EQ(solver.iterations(), 20);
+  for (int s = 0; s < solver.model().num_surfaces(); ++s) {
+    for (const Rgb& v : solver.vertex_radiance(s)) EXPECT_NEAR(v[0], 21.0, 0.5);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryMethod, AnalyticScenes, ::testing::ValuesIn(test::every_method()),

@@ -61,73 +61,120 @@ double distance_to_segment(const Point2& p, const Point2& a, const Point2& b, do
   return std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy);
 }
 
-}  // namespace
-
-ContactConstraints plan_contacts(const std::vector<Point2>& q, const std::vector<std::array<int, 3>>& triangles,
-                                 const std::vector<std::pair<int, int>>& polygon_edges,
-                                 const std::vector<std::pair<Point2, Point2>>& contacts, double tolerance) {
-  ContactConstraints plan;
-  const int first_new = static_cast<int>(q.size());
-  const auto point = [&](int i) -> const Point2& { return i < first_new ? q[i] : plan.points[i - first_new]; };
-  // Points on each polygon edge besides its ends, with their parameters.
-  std::vector<std::vector<std::pair<double, int>>> on_edge(polygon_edges.size());
-  std::vector<int> contact_points;  // new points not on a polygon edge
-  // For a point: the polygon edges it lies on (to drop pieces along one).
-  std::map<int, std::vector<std::size_t>> edges_at;
-  for (std::size_t e = 0; e < polygon_edges.size(); ++e) {
-    edges_at[polygon_edges[e].first].push_back(e);
-    edges_at[polygon_edges[e].second].push_back(e);
-  }
-  const auto resolve = [&](const Point2& p) -> int {
-    for (const auto& [v, edges] : edges_at) {
-      if (v < first_new && distance(p, q[v]) <= tolerance) return v;
-    }
+// Where contact ends land, each within the tolerance: on a polygon vertex,
+// on a polygon edge (a new point there, which splits the edge), on an
+// earlier contact end, or else at a new point of their own. New points are
+// appended to `points`, numbered from the surface's point count on.
+class EndSnapper {
+ public:
+  EndSnapper(const std::vector<Point2>& q, const std::vector<std::pair<int, int>>& polygon_edges, double tolerance,
+             std::vector<Point2>& points)
+      : q_(q), polygon_edges_(polygon_edges), tolerance_(tolerance), points_(points),
+        first_new_(static_cast<int>(q.size())), on_edge_(polygon_edges.size()) {
     for (std::size_t e = 0; e < polygon_edges.size(); ++e) {
+      edges_at_[polygon_edges[e].first].push_back(e);
+      edges_at_[polygon_edges[e].second].push_back(e);
+    }
+  }
+
+  const Point2& point(int i) const { return i < first_new_ ? q_[i] : points_[i - first_new_]; }
+
+  int resolve(const Point2& p) {
+    for (const auto& [v, edges] : edges_at_) {
+      if (v < first_new_ && distance(p, q_[v]) <= tolerance_) return v;
+    }
+    for (std::size_t e = 0; e < polygon_edges_.size(); ++e) {
       double t = 0.0;
-      const Point2 &a = q[polygon_edges[e].first], &b = q[polygon_edges[e].second];
-      if (distance_to_segment(p, a, b, &t) > tolerance) continue;
-      for (const auto& [s, i] : on_edge[e]) {
-        if (distance(p, point(i)) <= tolerance) return i;
+      const Point2 &a = q_[polygon_edges_[e].first], &b = q_[polygon_edges_[e].second];
+      if (distance_to_segment(p, a, b, &t) > tolerance_) continue;
+      for (const auto& [s, i] : on_edge_[e]) {
+        if (distance(p, point(i)) <= tolerance_) return i;
       }
-      const int i = first_new + static_cast<int>(plan.points.size());
-      plan.points.push_back(Point2{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
-      on_edge[e].emplace_back(t, i);
-      edges_at[i].push_back(e);
+      const int i = first_new_ + static_cast<int>(points_.size());
+      points_.push_back(Point2{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+      on_edge_[e].emplace_back(t, i);
+      edges_at_[i].push_back(e);
       return i;
     }
-    for (int i : contact_points) {
-      if (distance(p, point(i)) <= tolerance) return i;
+    for (int i : contact_points_) {
+      if (distance(p, point(i)) <= tolerance_) return i;
     }
-    const int i = first_new + static_cast<int>(plan.points.size());
-    plan.points.push_back(p);
-    contact_points.push_back(i);
+    const int i = first_new_ + static_cast<int>(points_.size());
+    points_.push_back(p);
+    contact_points_.push_back(i);
     return i;
-  };
+  }
 
+  // Whether a and b lie on one polygon edge (a piece between them runs along it).
+  bool along_polygon_edge(int a, int b) const {
+    const auto ea = edges_at_.find(a), eb = edges_at_.find(b);
+    bool along = false;
+    if (ea != edges_at_.end() && eb != edges_at_.end()) {
+      for (std::size_t e : ea->second) along |= std::find(eb->second.begin(), eb->second.end(), e) != eb->second.end();
+    }
+    return along;
+  }
+
+  // The polygon edges, split at the points snapped onto them.
+  std::vector<std::pair<int, int>> split_polygon_edges() {
+    std::vector<std::pair<int, int>> out;
+    for (std::size_t e = 0; e < polygon_edges_.size(); ++e) {
+      auto& chain = on_edge_[e];
+      if (chain.empty()) {
+        out.push_back(polygon_edges_[e]);
+        continue;
+      }
+      std::sort(chain.begin(), chain.end());
+      int from = polygon_edges_[e].first;
+      for (const auto& [t, i] : chain) {
+        out.emplace_back(from, i);
+        from = i;
+      }
+      out.emplace_back(from, polygon_edges_[e].second);
+    }
+    return out;
+  }
+
+ private:
+  const std::vector<Point2>& q_;
+  const std::vector<std::pair<int, int>>& polygon_edges_;
+  double tolerance_;
+  std::vector<Point2>& points_;
+  int first_new_;
+  // Points on each polygon edge besides its ends, with their parameters.
+  std::vector<std::vector<std::pair<double, int>>> on_edge_;
+  std::vector<int> contact_points_;  // new points not on a polygon edge
+  // For a point: the polygon edges it lies on (to drop pieces along one).
+  std::map<int, std::vector<std::size_t>> edges_at_;
+};
+
+// The contact segments clipped to the region, as pairs of snapped ends,
+// without those along a polygon edge; sorted, each once.
+std::vector<std::pair<int, int>> contact_pieces(const std::vector<std::pair<Point2, Point2>>& contacts,
+                                                const std::vector<Point2>& q,
+                                                const std::vector<std::array<int, 3>>& triangles, double tolerance,
+                                                EndSnapper& snapper) {
   std::vector<std::pair<int, int>> pieces;
   for (const auto& [p0, p1] : contacts) {
     const double length = distance(p0, p1);
     if (!(length > tolerance)) continue;
     for (const auto& [t0, t1] : clip_to_region(p0, p1, q, triangles, 0.5 * tolerance)) {
       if ((t1 - t0) * length <= tolerance) continue;
-      const int a = resolve(lerp(p0, p1, t0));
-      const int b = resolve(lerp(p0, p1, t1));
+      const int a = snapper.resolve(lerp(p0, p1, t0));
+      const int b = snapper.resolve(lerp(p0, p1, t1));
       if (a == b) continue;
-      const auto ea = edges_at.find(a), eb = edges_at.find(b);
-      bool along_polygon_edge = false;
-      if (ea != edges_at.end() && eb != edges_at.end()) {
-        for (std::size_t e : ea->second) {
-          along_polygon_edge |= std::find(eb->second.begin(), eb->second.end(), e) != eb->second.end();
-        }
-      }
-      if (!along_polygon_edge) pieces.emplace_back(std::min(a, b), std::max(a, b));
+      if (!snapper.along_polygon_edge(a, b)) pieces.emplace_back(std::min(a, b), std::max(a, b));
     }
   }
   std::sort(pieces.begin(), pieces.end());
   pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+  return pieces;
+}
 
-  // A contact end on another piece (one box's corner against another's
-  // side) splits that piece.
+// A contact end on another piece (one box's corner against another's side)
+// splits that piece.
+std::vector<std::pair<int, int>> split_at_ends(const std::vector<std::pair<int, int>>& pieces,
+                                               const EndSnapper& snapper, double tolerance) {
   std::vector<int> ends;
   for (const auto& [a, b] : pieces) {
     ends.push_back(a);
@@ -141,7 +188,8 @@ ContactConstraints plan_contacts(const std::vector<Point2>& q, const std::vector
     for (int k : ends) {
       if (k == a || k == b) continue;
       double t = 0.0;
-      if (distance_to_segment(point(k), point(a), point(b), &t) <= tolerance && t > 0.0 && t < 1.0) {
+      if (distance_to_segment(snapper.point(k), snapper.point(a), snapper.point(b), &t) <= tolerance && t > 0.0 &&
+          t < 1.0) {
         chain.emplace_back(t, k);
       }
     }
@@ -151,22 +199,18 @@ ContactConstraints plan_contacts(const std::vector<Point2>& q, const std::vector
       if (u != v) contact_edges.emplace(std::min(u, v), std::max(u, v));
     }
   }
-  plan.contact_edges.assign(contact_edges.begin(), contact_edges.end());
+  return {contact_edges.begin(), contact_edges.end()};
+}
 
-  for (std::size_t e = 0; e < polygon_edges.size(); ++e) {
-    auto& chain = on_edge[e];
-    if (chain.empty()) {
-      plan.polygon_edges.push_back(polygon_edges[e]);
-      continue;
-    }
-    std::sort(chain.begin(), chain.end());
-    int from = polygon_edges[e].first;
-    for (const auto& [t, i] : chain) {
-      plan.polygon_edges.emplace_back(from, i);
-      from = i;
-    }
-    plan.polygon_edges.emplace_back(from, polygon_edges[e].second);
-  }
+}  // namespace
+
+ContactConstraints plan_contacts(const std::vector<Point2>& q, const std::vector<std::array<int, 3>>& triangles,
+                                 const std::vector<std::pair<int, int>>& polygon_edges,
+                                 const std::vector<std::pair<Point2, Point2>>& contacts, double tolerance) {
+  ContactConstraints plan;
+  EndSnapper snapper(q, polygon_edges, tolerance, plan.points);
+  plan.contact_edges = split_at_ends(contact_pieces(contacts, q, triangles, tolerance, snapper), snapper, tolerance);
+  plan.polygon_edges = snapper.split_polygon_edges();
   return plan;
 }
 

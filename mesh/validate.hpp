@@ -1,11 +1,10 @@
 #pragma once
-// Invariant checks (docs/design.md §6): conforming meshes as files hold them, and
-// surface hierarchies while a solver refines them.
+// Invariant checks (docs/design.md §6): conforming meshes as files hold them;
+// the violations they report (surface hierarchies: mesh/hierarchy_check.hpp).
 
 #include <string>
 #include <vector>
 
-#include "mesh/hierarchy.hpp"
 #include "mesh/types.hpp"
 
 namespace lhr {
@@ -37,11 +36,6 @@ struct ConformingCheckOptions {
 // shared vertex indices) may touch geometrically: surfaces meet that way.
 std::vector<Violation> check_conforming_mesh(const RawMesh& mesh,
                                              const ConformingCheckOptions& options = {});
-
-// Restricted property (leaves sharing an edge differ by <= 1 level),
-// parent/child consistency, midpoints shared and placed at edge midpoints,
-// T-vertex bookkeeping. Implemented beside the hierarchy (hierarchy.cpp).
-std::vector<Violation> check_hierarchy(const SurfaceHierarchy& hierarchy);
 
 // One line per violation, for reports.
 std::string format_violation(const Violation& v);

@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes built in code for solver tests.
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -83,6 +84,51 @@ inline Material grey_material(const std::string& name, double rho, double e = 0.
 inline Scene furnace_cube(double reflectance, double emission) {
   const Material m = grey_material("furnace", reflectance, emission);
   return closed_cube(m, m, "furnace cube");
+}
+
+// A UV sphere of `lon` × `lat` segments (quads between rings, triangles at
+// the poles), its faces facing the centre when `inward`, else outward.
+inline void add_uv_sphere(PolygonSoup& soup, const Vec3& centre, double radius, int lon, int lat, bool inward,
+                          int material, int group) {
+  const int first = static_cast<int>(soup.points.size());
+  soup.points.push_back(centre + Vec3(0, 0, radius));
+  for (int i = 1; i < lat; ++i) {
+    const double theta = M_PI * i / lat;
+    for (int j = 0; j < lon; ++j) {
+      const double phi = 2.0 * M_PI * j / lon;
+      soup.points.push_back(centre + radius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                                                   std::cos(theta)));
+    }
+  }
+  soup.points.push_back(centre + Vec3(0, 0, -radius));
+  const int south = static_cast<int>(soup.points.size()) - 1;
+  const auto ring = [&](int i, int j) { return first + 1 + (i - 1) * lon + (j % lon); };
+  const auto add = [&](std::vector<int> face) {
+    // Orientation from geometry: the Newell normal must point away from the
+    // centre for an outward face.
+    Vec3 n(0, 0, 0), c(0, 0, 0);
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      n += OpenMesh::cross(soup.points[face[k]], soup.points[face[(k + 1) % face.size()]]);
+      c += soup.points[face[k]];
+    }
+    const bool outward = OpenMesh::dot(n, c / static_cast<double>(face.size()) - centre) > 0;
+    if (outward == inward) std::reverse(face.begin(), face.end());
+    soup.faces.push_back({face, material, group, 0});
+  };
+  for (int j = 0; j < lon; ++j) {
+    add({first, ring(1, j), ring(1, j + 1)});
+    for (int i = 1; i + 1 < lat; ++i) add({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    add({south, ring(lat - 1, j + 1), ring(lat - 1, j)});
+  }
+}
+
+// The furnace inside a sphere: one closed curved surface, ρ = 0.5, Le = 1.
+inline Scene furnace_sphere() {
+  PolygonSoup soup;
+  soup.materials = {grey_material("furnace", 0.5, 1.0)};
+  soup.groups = {"sphere"};
+  add_uv_sphere(soup, Vec3(0, 0, 0), 1.0, 16, 8, true, 0, 0);
+  return scene_from_soup(soup, "furnace sphere");
 }
 
 // A square emitter (Kd 0) of side `size` at height `height`, facing down,

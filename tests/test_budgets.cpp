@@ -18,6 +18,7 @@
 
 #include "io/scene_loader.hpp"
 #include "mesh/hierarchy.hpp"
+#include "mesh/hierarchy_check.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "mesh/validate.hpp"
 #include "radiosity/classical_solver.hpp"

@@ -1,5 +1,7 @@
-// Classical hierarchical radiosity against closed forms: the furnace and a
-// two-surface exchange.
+// What holds for the classical method's constant elements alone: each leaf
+// holds the closed form at its centre. The checks every method passes (the
+// furnace, a receiver under an emitter, a closed box) are in
+// tests/test_every_method.cpp.
 
 #include <gtest/gtest.h>
 
@@ -12,32 +14,6 @@
 namespace lhr {
 namespace {
 
-TEST(ClassicalSolver, FurnaceReachesEOverOneMinusRho) {
-  // Closed cube, ρ = 0.5, Le = 1: L = Le/(1−ρ) = 2 everywhere.
-  const Scene scene = test::furnace_cube(0.5, 1.0);
-  MeshingOptions meshing;
-  meshing.max_edge = 0.7;
-  SceneModel model(scene, meshing);
-  ClassicalOptions options;
-  // Every surface emits, so links at the corners refine down to the minimum
-  // element size: leaves at several levels meet there.
-  options.eps_bf = 0.2;
-  options.tolerance = 1e-7;
-  ClassicalSolver solver(model, options);
-  solver.solve();
-  ASSERT_EQ(model.num_surfaces(), 6);
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    const ConformingMesh mesh = model.hierarchy(s).conforming_mesh();
-    const auto values = solver.vertex_radiance(s, mesh);
-    for (const Rgb& v : values) {
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], 2.0, 0.02) << "surface " << s;
-    }
-  }
-  int max_level = 0;
-  for (int s = 0; s < model.num_surfaces(); ++s) max_level = std::max(max_level, model.hierarchy(s).max_level());
-  EXPECT_GE(max_level, 3) << "the test must exercise refinement";
-}
-
 TEST(ClassicalSolver, ReceiverUnderASquareEmitterMatchesTheFormFactor) {
   // Emitter with ρ = 0: the receiver's radiance is exactly ρ·Le·F(x), F the
   // point-to-square form factor, at every point (no interreflection back).
@@ -47,15 +23,9 @@ TEST(ClassicalSolver, ReceiverUnderASquareEmitterMatchesTheFormFactor) {
   meshing.max_edge = 0.25;
   SceneModel model(scene, meshing);
   const int receiver = scene.materials[scene.surfaces[0].material].name == "receiver" ? 0 : 1;
-  // Constant elements have no vertex values of their own: a vertex takes the
-  // area-weighted mean of the leaves around it, an O(h·∇F) error (one-sided
-  // on the receiver's border). BF refinement splits where the transfer is
-  // large, not where F varies, and splits the emitter along with the
-  // receiver (the larger of the two), so it cannot give a uniformly fine
-  // receiver cheaply; the receiver is refined five levels below its initial
-  // triangles here instead (edges ≈ h/32), and ε_BF = 1 keeps the solver
-  // from refining further. Measured worst relative errors: 1.1 % on the
-  // border, 0.5 % inside (2.3 % and 1.1 % four levels down).
+  // The receiver refined five levels below its initial triangles, and
+  // ε_BF = 1 keeping the solver from refining further, as in
+  // EveryMethod/AnalyticScenes.ReceiverUnderASquareEmitterMatchesTheFormFactor.
   SurfaceHierarchy& h = model.hierarchy(receiver);
   for (int level = 0; level < 5; ++level) {
     for (NodeId leaf : h.leaves()) h.split(leaf);
@@ -73,19 +43,7 @@ TEST(ClassicalSolver, ReceiverUnderASquareEmitterMatchesTheFormFactor) {
     const double expected = exact(model.centroid(receiver, leaf));
     ASSERT_NEAR(solver.radiance(receiver, leaf)[0], expected, 1e-4 * expected) << "leaf " << leaf;
   }
-  // Every exported vertex, border and corners included.
-  const ConformingMesh mesh = h.conforming_mesh();
-  const auto values = solver.vertex_radiance(receiver, mesh);
-  int border = 0;
-  for (const auto vh : mesh.mesh.vertices()) {
-    const Vec3 x = mesh.mesh.point(vh);
-    const double expected = exact(x);
-    ASSERT_GT(expected, 0.0);
-    EXPECT_NEAR(values[vh.idx()][0], expected, 0.02 * expected) << "vertex at " << x[0] << ", " << x[1];
-    border += mesh.mesh.is_boundary(vh) ? 1 : 0;
-  }
-  EXPECT_GT(border, 100);
-  EXPECT_GT(mesh.mesh.n_vertices(), 10000u);
+  EXPECT_GT(h.num_leaves(), 10000u);
 }
 
 }  // namespace

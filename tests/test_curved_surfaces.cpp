@@ -1,8 +1,9 @@
 // Curved and skewed surfaces (docs/design.md §3: a non-planar polygon or a smooth
-// tessellation is one curved surface): both methods solve them, a closed
-// curved surface lights itself (the furnace inside a sphere), a skewed quad
+// tessellation is one curved surface): both methods solve them, a skewed quad
 // lit by a light gets ρ·Le·F at its nodes, and a sphere in a lit box exports
-// a valid mesh with finite, bounded values.
+// a valid mesh with finite, bounded values. The furnace inside a sphere, a
+// closed curved surface lighting itself, runs for every method in
+// tests/test_every_method.cpp.
 
 #include <gtest/gtest.h>
 
@@ -19,42 +20,6 @@
 namespace lhr {
 namespace {
 
-// A UV sphere of `lon` × `lat` segments (quads between rings, triangles at
-// the poles), its faces facing the centre when `inward`, else outward.
-void add_uv_sphere(PolygonSoup& soup, const Vec3& centre, double radius, int lon, int lat, bool inward, int material,
-                   int group) {
-  const int first = static_cast<int>(soup.points.size());
-  soup.points.push_back(centre + Vec3(0, 0, radius));
-  for (int i = 1; i < lat; ++i) {
-    const double theta = M_PI * i / lat;
-    for (int j = 0; j < lon; ++j) {
-      const double phi = 2.0 * M_PI * j / lon;
-      soup.points.push_back(centre + radius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                                   std::cos(theta)));
-    }
-  }
-  soup.points.push_back(centre + Vec3(0, 0, -radius));
-  const int south = static_cast<int>(soup.points.size()) - 1;
-  const auto ring = [&](int i, int j) { return first + 1 + (i - 1) * lon + (j % lon); };
-  const auto add = [&](std::vector<int> face) {
-    // Orientation from geometry: the Newell normal must point away from the
-    // centre for an outward face.
-    Vec3 n(0, 0, 0), c(0, 0, 0);
-    for (std::size_t k = 0; k < face.size(); ++k) {
-      n += OpenMesh::cross(soup.points[face[k]], soup.points[face[(k + 1) % face.size()]]);
-      c += soup.points[face[k]];
-    }
-    const bool outward = OpenMesh::dot(n, c / static_cast<double>(face.size()) - centre) > 0;
-    if (outward == inward) std::reverse(face.begin(), face.end());
-    soup.faces.push_back({face, material, group, 0});
-  };
-  for (int j = 0; j < lon; ++j) {
-    add({first, ring(1, j), ring(1, j + 1)});
-    for (int i = 1; i + 1 < lat; ++i) add({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    add({south, ring(lat - 1, j + 1), ring(lat - 1, j)});
-  }
-}
-
 Material grey(const std::string& name, double rho, double le = 0.0) {
   Material m;
   m.name = name;
@@ -63,68 +28,10 @@ Material grey(const std::string& name, double rho, double le = 0.0) {
   return m;
 }
 
-Scene furnace_sphere() {
-  PolygonSoup soup;
-  soup.materials = {grey("furnace", 0.5, 1.0)};
-  soup.groups = {"sphere"};
-  add_uv_sphere(soup, Vec3(0, 0, 0), 1.0, 16, 8, true, 0, 0);
-  return test::scene_from_soup(soup, "furnace sphere");
-}
-
 TEST(CurvedSurfaces, InsideOfASphereIsOneCurvedSurface) {
-  const Scene scene = furnace_sphere();
+  const Scene scene = test::furnace_sphere();
   ASSERT_EQ(scene.surfaces.size(), 1u);
   EXPECT_FALSE(scene.surfaces[0].planar);
-}
-
-TEST(CurvedSurfaces, LinearFurnaceInsideASphereIsExactAtEveryNode) {
-  // Closed sphere, ρ = 0.5, Le = 1: L = Le/(1−ρ) = 2 at every node. The
-  // sphere is one surface, so everything it receives is self-transfer, and
-  // each initial node's coefficients sum to 1.
-  const Scene scene = furnace_sphere();
-  MeshingOptions meshing;
-  meshing.max_edge = 0.4;
-  SceneModel model(scene, meshing);
-  LinearOptions options;
-  options.eps_link = 20.0;
-  options.tolerance = 1e-7;
-  // The remeshed sphere's vertices lie on the input facets, so it is not
-  // quite convex from inside: a few faces hide others and visibility is
-  // sampled. 4² rays per link leave row sums up to 0.6 % off at a few
-  // vertices, 8² bring them within 0.5 %.
-  options.visibility_samples = 8;
-  LinearSolver solver(model, options);
-  solver.solve();
-  const SurfaceHierarchy& h = model.hierarchy(0);
-  std::size_t nodes = 0;
-  for (const Rgb& v : solver.vertex_radiance(0)) {
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], 2.0, 0.005 * 2.0);
-    ++nodes;
-  }
-  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
-    if (h.vertex_level(v) == 0) {
-      EXPECT_NEAR(solver.row_sum(0, v), 1.0, 0.005) << "vertex " << v;
-    }
-  }
-  EXPECT_GT(nodes, 50u);
-}
-
-TEST(CurvedSurfaces, ClassicalFurnaceInsideASphereIsExactAtEveryVertex) {
-  const Scene scene = furnace_sphere();
-  MeshingOptions meshing;
-  meshing.max_edge = 0.4;
-  SceneModel model(scene, meshing);
-  ClassicalOptions options;
-  options.eps_bf = 0.2;
-  options.tolerance = 1e-7;
-  ClassicalSolver solver(model, options);
-  solver.solve();
-  const ConformingMesh mesh = model.hierarchy(0).conforming_mesh();
-  const auto values = solver.vertex_radiance(0, mesh);
-  ASSERT_GT(values.size(), 50u);
-  for (const Rgb& v : values) {
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], 2.0, 0.005 * 2.0);
-  }
 }
 
 // The published Cornell box's red wall (its bottom edge slants, its top
@@ -311,7 +218,7 @@ Scene sphere_in_lit_box() {
   test::add_quad(soup, p000, p010, p011, p001, 0, 0);
   test::add_quad(soup, p100, p101, p111, p110, 0, 0);
   test::add_quad(soup, Vec3(1.5, 1.5, 3.99), Vec3(1.5, 2.5, 3.99), Vec3(2.5, 2.5, 3.99), Vec3(2.5, 1.5, 3.99), 2, 2);
-  add_uv_sphere(soup, Vec3(2, 2, 1.5), 0.8, 24, 12, false, 1, 1);
+  test::add_uv_sphere(soup, Vec3(2, 2, 1.5), 0.8, 24, 12, false, 1, 1);
   return test::scene_from_soup(soup, "sphere in a lit box");
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mesh/hierarchy.hpp"
+#include "mesh/hierarchy_check.hpp"
 #include "mesh/validate.hpp"
 #include "scene_fixtures.hpp"
 

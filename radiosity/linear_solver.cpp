@@ -511,24 +511,23 @@ void LinearSolver::collect_stats() {
 
 void LinearStats::write_json(nlohmann::json& doc) const {
   SolverStats::write_json(doc, "vertex_values", bytes_total());
-  doc["graphs"] = graphs;
-  doc["graph_vertices"] = graph_vertices;
-  doc["elements_per_level"] = leaves_per_level;
-  doc["receiver_splits"] = receiver_splits;
-  doc["shooter_refinements"] = shooter_refinements;
-  doc["vertex_error_refinements"] = vertex_error_refinements;
-  doc["links_linked_past_budget"] = links_linked_past_budget;
-  doc["power_left_out"] = power_left_out;
-  doc["oracle_adaptation"] = world_adaptation;
-  nlohmann::json& bytes = doc["bytes"];
-  bytes["graphs"] = bytes_graphs;
+  doc.update({{"graphs", graphs},
+              {"graph_vertices", graph_vertices},
+              {"elements_per_level", leaves_per_level},
+              {"receiver_splits", receiver_splits},
+              {"shooter_refinements", shooter_refinements},
+              {"vertex_error_refinements", vertex_error_refinements},
+              {"links_linked_past_budget", links_linked_past_budget},
+              {"power_left_out", power_left_out},
+              {"oracle_adaptation", world_adaptation}});
   // Paper §5 reports graphs ≈ 30 % over what they organise.
   const std::size_t organised = bytes_geometry + bytes_hierarchy + bytes_values + bytes_links;
-  bytes["graph_overhead"] = organised > 0 ? static_cast<double>(bytes_graphs) / static_cast<double>(organised) : 0.0;
-  nlohmann::json& seconds = doc["seconds"];
-  seconds["linking"] = seconds_linking;
-  seconds["oracles"] = seconds_oracles;
-  seconds["importance"] = seconds_importance;
+  doc["bytes"].update({{"graphs", bytes_graphs},
+                       {"graph_overhead", organised > 0 ? static_cast<double>(bytes_graphs) /
+                                                               static_cast<double>(organised)
+                                                         : 0.0}});
+  doc["seconds"].update(
+      {{"linking", seconds_linking}, {"oracles", seconds_oracles}, {"importance", seconds_importance}});
 }
 
 std::vector<Rgb> LinearSolver::vertex_radiance(int s, const ConformingMesh& mesh) const {

@@ -1,5 +1,6 @@
 #pragma once
-// Mesh files through OpenMesh's readers and writers (docs/design.md §3 output).
+// Mesh files: written through OpenMesh's writers, read by lhr's own checking
+// readers (io/ply_off_reader.hpp; docs/design.md §3 output).
 
 #include <array>
 #include <cstdint>
@@ -43,8 +44,8 @@ void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const
 // sits that far off its edge, and the in-memory default would miss it.
 constexpr double kStoredMeshTolerance = 1e-6;
 
-// Reads a PLY/OFF exactly as stored (no vertex merging, no face repair),
-// through OpenMesh's readers. Throws InputError.
+// Reads a PLY/OFF exactly as stored (no vertex merging, no face repair).
+// Throws InputError.
 RawMesh read_raw_mesh(const std::filesystem::path& path);
 
 }  // namespace lhr

@@ -15,7 +15,6 @@
 #include <string_view>
 
 #include "io/material_overrides.hpp"
-#include "io/openmesh_import.hpp"
 #include "io/ply_off_reader.hpp"
 #include "io/scene_file.hpp"
 #include "io/text_scan.hpp"
@@ -458,40 +457,37 @@ int colour_material(const Rgb& colour, std::map<std::array<int, 3>, int>& by_key
   return it->second;
 }
 
-PolygonSoup load_openmesh(const fs::path& path) {
-  // Every face is kept as read and checked below: OpenMesh's own importer
-  // would drop non-manifold faces and could not hold out-of-range indices.
-  PlainImporter importer;
-  read_ply_off(path, importer, FaceIndices::kInRange);
+PolygonSoup load_ply_off(const fs::path& path) {
+  const StoredMesh stored = read_ply_off(path, FaceIndices::kInRange);
 
   // The text checks above give line numbers; these repeat them for binary
   // files, where only the element index can be named.
   PolygonSoup soup;
-  for (std::size_t i = 0; i < importer.points.size(); ++i) {
-    const Vec3& p = importer.points[i];
+  for (std::size_t i = 0; i < stored.points.size(); ++i) {
+    const Vec3& p = stored.points[i];
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
       throw InputError(path, "vertex " + std::to_string(i) + ": non-finite coordinate");
     }
     soup.points.push_back(p);
   }
-  if (importer.faces.empty()) throw InputError(path, "no faces (empty scene)");
+  if (stored.faces.empty()) throw InputError(path, "no faces (empty scene)");
   soup.groups.push_back(path.stem().string());
   std::map<std::array<int, 3>, int> by_key;
   int grey = -1;
-  for (std::size_t f = 0; f < importer.faces.size(); ++f) {
+  for (std::size_t f = 0; f < stored.faces.size(); ++f) {
     InputFace face;
     face.vertices = checked_face(
-        std::vector<long long>(importer.faces[f].begin(), importer.faces[f].end()),
+        std::vector<long long>(stored.faces[f].begin(), stored.faces[f].end()),
         static_cast<long long>(soup.points.size()),
         [&](const std::string& p) { return InputError(path, "face " + std::to_string(f) + ": " + p); });
     face.source_line = static_cast<int>(f);
-    std::optional<Rgb> colour = importer.face_colours[f];
+    std::optional<Rgb> colour = stored.face_colours[f];
     if (!colour) {
       Rgb sum(0, 0, 0);
       bool all = true;
       for (int v : face.vertices) {
-        if (importer.vertex_colours[v])
-          sum += *importer.vertex_colours[v];
+        if (stored.vertex_colours[v])
+          sum += *stored.vertex_colours[v];
         else
           all = false;
       }
@@ -519,7 +515,7 @@ PolygonSoup load_openmesh(const fs::path& path) {
 PolygonSoup read_geometry(const fs::path& path, std::vector<std::string>& warnings) {
   const std::string ext = extension_of(path);
   if (ext == ".obj") return load_obj(path, warnings);
-  if (ext == ".ply" || ext == ".off") return load_openmesh(path);
+  if (ext == ".ply" || ext == ".off") return load_ply_off(path);
   throw InputError(path, "unsupported file type " + show(ext) + " (expected .obj, .ply or .off)");
 }
 

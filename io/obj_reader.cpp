@@ -350,15 +350,7 @@ PolygonSoup read_obj(const fs::path& path, std::vector<std::string>& warnings,
     face.group = f.group;
     face.source_line = f.line;
     const int id = f.usemtl < 0 ? -1 : material_of[f.usemtl];
-    if (id >= 0) {
-      face.material = id;
-    } else {
-      if (grey < 0) {
-        grey = static_cast<int>(soup.materials.size());
-        soup.materials.push_back(default_material());
-      }
-      face.material = grey;
-    }
+    face.material = id >= 0 ? id : default_material_index(soup.materials, grey);
     soup.faces.push_back(std::move(face));
   }
   return soup;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -16,13 +15,10 @@ namespace lhr {
 namespace {
 
 namespace fs = std::filesystem;
-using text::ErrorAt;
-using text::Line;
 using text::parse_double;
 using text::parse_int;
 using text::show;
 
-constexpr long long kMaxInt = std::numeric_limits<int>::max();
 
 // The colour components of one vertex or face, still as text.
 struct ColourTokens {
@@ -68,10 +64,10 @@ std::vector<std::optional<Rgb>> decode_colours(const fs::path& path, const std::
 // float), normals, texture coordinates and colours checked per line.
 StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceIndices faces) {
   text::require_text(path, text);
-  const std::vector<Line> lines = text::tokenize(text, true);
+  const std::vector<text::Line> lines = text::tokenize(text, true);
   if (lines.empty()) throw InputError(path, "empty file");
   std::size_t next = 0;
-  const Line& head = lines[next++];
+  const text::Line& head = lines[next++];
   std::string magic(head.tokens[0]);
   if (magic.size() < 3 || magic.substr(magic.size() - 3) != "OFF") {
     throw InputError(path, head.number, "not an OFF file (it must start with 'OFF')");
@@ -111,7 +107,7 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
   const std::size_t fixed = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0);
   std::vector<ColourTokens> vertex_colours;
   for (long long i = 0; i < *nv; ++i) {
-    const Line& line = lines[next++];
+    const text::Line& line = lines[next++];
     const std::string what = "vertex " + std::to_string(i);
     mesh.points.push_back(text::finite_xyz(path, line, 0, what));
     const std::size_t n = line.tokens.size();
@@ -137,8 +133,8 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
   }
   std::vector<ColourTokens> face_colours;
   for (long long i = 0; i < *nf; ++i) {
-    const Line& line = lines[next++];
-    const ErrorAt error = [&](const std::string& problem) {
+    const text::Line& line = lines[next++];
+    const text::ErrorAt error = [&](const std::string& problem) {
       return InputError(path, line.number, "face " + std::to_string(i) + ": " + problem);
     };
     const std::optional<long long> n = parse_int(line.tokens[0]);
@@ -156,7 +152,7 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
     } else if (indices.empty()) {
       throw error("no vertex indices");
     } else if (std::any_of(indices.begin(), indices.end(),
-                           [](long long v) { return v < -kMaxInt || v > kMaxInt; })) {
+                           [](long long v) { return v < -kMaxVertexIndex || v > kMaxVertexIndex; })) {
       throw error("vertex index out of the range of int");
     }
     // The colour runs to the end of the line: nothing, a colour-map index
@@ -207,7 +203,7 @@ Rgb binary_colour(const std::string& bytes, std::size_t at) {
 // checked against the bytes left before it is followed.
 StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceIndices faces) {
   const std::size_t newline = bytes.find('\n');
-  const std::vector<Line> first = text::tokenize(std::string_view(bytes).substr(0, newline), false);
+  const std::vector<text::Line> first = text::tokenize(std::string_view(bytes).substr(0, newline), false);
   const std::string magic = first.empty() ? std::string() : std::string(first[0].tokens[0]);
   std::string_view flags = magic;
   const bool texcoords = flags.substr(0, 2) == "ST";
@@ -259,7 +255,7 @@ StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceI
     face.reserve(n);
     for (unsigned long long k = 0; k < n; ++k) {
       const std::uint32_t v = little_endian_u32(bytes, at + 4 * k);
-      if (faces == FaceIndices::kAsStored && v > kMaxInt) {
+      if (faces == FaceIndices::kAsStored && v > kMaxVertexIndex) {
         throw InputError(path, "face " + std::to_string(i) + ": vertex index too large");
       }
       // Taken as a 32-bit pattern: one above INT_MAX reads as negative and

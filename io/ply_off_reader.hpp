@@ -7,12 +7,16 @@
 // docs/robustness.md lists what the fuzzers found).
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <vector>
 
 #include "mesh/types.hpp"
 
 namespace lhr {
+
+// Faces hold int indices: a larger one cannot be kept as stored.
+inline constexpr long long kMaxVertexIndex = std::numeric_limits<int>::max();
 
 enum class FaceIndices {
   kInRange,   // loading a scene: >= 3 distinct vertices per face, all in range

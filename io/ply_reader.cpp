@@ -26,8 +26,6 @@ using text::parse_double;
 using text::parse_int;
 using text::show;
 
-constexpr long long kMaxInt = std::numeric_limits<int>::max();
-
 struct PlyType {
   int size = 0;  // bytes in a binary file
   bool integer = false;
@@ -209,8 +207,8 @@ PlyHeader scan_ply(const fs::path& path, const std::string& bytes) {
 }
 
 // What a file's elements build. Only the elements up to the first face
-// element count: a vertex element after it is checked but not used, and
-// the counts below then tell the file does not hold what it declares.
+// element count: a vertex element after it is checked but not kept, and
+// finish() then reports that the file does not hold what it declares.
 class PlyBuilder {
  public:
   PlyBuilder(const PlyHeader& ply, std::size_t bytes) {
@@ -222,6 +220,7 @@ class PlyBuilder {
         if (p.role == Role::kStderr) has_stderr_ = true;
       }
     }
+    has_radiance_ = radiance_channels_[0] && radiance_channels_[1] && radiance_channels_[2];
     // Every element takes at least a byte, so this bounds what a header can ask for.
     mesh_.points.reserve(static_cast<std::size_t>(std::min<long long>(declared_vertices_, bytes)));
     mesh_.faces.reserve(static_cast<std::size_t>(std::min<long long>(declared_faces_, bytes)));
@@ -268,13 +267,14 @@ class PlyBuilder {
     if (vertex_) {
       mesh_.points.push_back(point_);
       mesh_.vertex_colours.push_back(e.coloured ? std::optional<Rgb>(colour) : std::nullopt);
-      radiance_values_.push_back(radiance_);
+      if (has_radiance_) mesh_.radiance.push_back(radiance_);
       if (has_stderr_) mesh_.radiance_stderr.push_back(stderr_);
     } else if (face_) {
       mesh_.faces.push_back(indices_);
       mesh_.face_colours.push_back(e.coloured ? std::optional<Rgb>(colour) : std::nullopt);
     }
   }
+  // After the last of an element's entries.
   void end_all(const PlyElement& e) {
     if (e.name == "face") building_ = false;
   }
@@ -287,9 +287,6 @@ class PlyBuilder {
                                  std::to_string(declared_faces_) + " faces but holds " +
                                  std::to_string(mesh_.points.size()) + " and " +
                                  std::to_string(mesh_.faces.size()) + " (truncated file?)");
-    }
-    if (radiance_channels_[0] && radiance_channels_[1] && radiance_channels_[2]) {
-      mesh_.radiance = std::move(radiance_values_);
     }
     return std::move(mesh_);
   }
@@ -308,9 +305,9 @@ class PlyBuilder {
   StoredMesh mesh_;
   long long declared_vertices_ = 0, declared_faces_ = 0;
   bool radiance_channels_[3] = {false, false, false};
+  bool has_radiance_ = false;  // all three channels
   bool has_stderr_ = false;
   bool building_ = true;
-  std::vector<Rgb> radiance_values_;
   bool vertex_ = false, face_ = false;
   Vec3 point_;
   std::array<int, 3> colour_{};
@@ -405,7 +402,7 @@ void read_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHea
           text::checked_face(*indices, out.declared_vertices(), error);
         } else if (indices->empty()) {
           throw error("no vertex indices");
-        } else if (std::any_of(indices->begin(), indices->end(), [](long long v) { return v > kMaxInt; })) {
+        } else if (std::any_of(indices->begin(), indices->end(), [](long long v) { return v > kMaxVertexIndex; })) {
           throw error("vertex index too large");
         }
         for (long long v : *indices) out.index(v);
@@ -483,7 +480,7 @@ void read_binary_ply(const fs::path& path, const std::string& bytes, const PlyHe
         }
         for (long long k = 0; k < n; ++k) {
           const long long v = read_integer(prop.value);
-          if (faces == FaceIndices::kAsStored && v > kMaxInt) {
+          if (faces == FaceIndices::kAsStored && v > kMaxVertexIndex) {
             throw InputError(path, "face " + std::to_string(i) + ": vertex index too large");
           }
           out.index(v);

@@ -82,15 +82,7 @@ PolygonSoup load_ply_off(const fs::path& path) {
       }
       if (all) colour = sum / static_cast<double>(face.vertices.size());
     }
-    if (colour) {
-      face.material = colour_material(*colour, by_key, soup);
-    } else {
-      if (grey < 0) {
-        grey = static_cast<int>(soup.materials.size());
-        soup.materials.push_back(default_material());
-      }
-      face.material = grey;
-    }
+    face.material = colour ? colour_material(*colour, by_key, soup) : default_material_index(soup.materials, grey);
     soup.faces.push_back(std::move(face));
   }
   return soup;

@@ -6,14 +6,14 @@
 #include <sstream>
 #include <string>
 
+#include "apps/bench/bench_plan.hpp"
+#include "apps/bench/bench_sweep.hpp"
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/options.hpp"
 #include "io/output_dir.hpp"
 #include "apps/tone_options.hpp"
 #include "io/scene_loader.hpp"
-#include "render/bench_plan.hpp"
-#include "render/bench_sweep.hpp"
 
 namespace lhr::app {
 

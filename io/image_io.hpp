@@ -1,6 +1,7 @@
 #pragma once
 // Image files through OpenImageIO: PNG of display values, EXR of linear
-// radiance (docs/design.md §5). Written atomically.
+// radiance (docs/design.md §5). Written atomically. The Image itself is
+// mesh/image.hpp, so that renderers hold images without this file.
 
 #include <array>
 #include <filesystem>
@@ -10,22 +11,11 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "mesh/image.hpp"
 #include "mesh/scene.hpp"
 #include "mesh/types.hpp"
 
 namespace lhr {
-
-// Row-major RGB, row 0 at the top (pixel (0,0) is top-left, docs/design.md §3).
-struct Image {
-  int width = 0;
-  int height = 0;
-  std::vector<float> rgb;  // 3 * width * height
-
-  Image() = default;
-  Image(int w, int h) : width(w), height(h), rgb(3 * static_cast<std::size_t>(w) * h, 0.0f) {}
-  float* pixel(int x, int y) { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
-  const float* pixel(int x, int y) const { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
-};
 
 // What a written image says about itself. An EXR stores the camera as
 // OpenEXR's worldToCamera (x right, y up, z along the view: left-handed, as

@@ -39,8 +39,6 @@ constexpr const char* kStderrName = "radiance_stderr";
 // text, and 9 significant digits reproduce a float exactly.
 constexpr std::streamsize kTextPrecision = std::numeric_limits<float>::max_digits10;
 
-constexpr std::uint8_t kGrey = 128;
-
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -92,44 +90,6 @@ void check_export(const std::filesystem::path& path, const ExportMesh& mesh) {
 
 }  // namespace
 
-void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rgb>& radiance) {
-  if (!radiance.empty() && radiance.size() != mesh.n_vertices()) {
-    throw std::invalid_argument("append_to_export: " + std::to_string(radiance.size()) + " radiance values for a mesh of " +
-                                std::to_string(mesh.n_vertices()) + " vertices");
-  }
-  const std::size_t offset = out.points.size();
-  // Keep per-vertex arrays aligned with points even if earlier surfaces had
-  // no colours: missing colours are grey, missing radiance is zero.
-  out.radiance.resize(offset, Rgb(0.0));
-  const bool colours = mesh.has_vertex_colors() || !out.colours.empty();
-  if (colours) out.colours.resize(offset, {kGrey, kGrey, kGrey});
-
-  std::vector<int> index(mesh.n_vertices(), -1);
-  for (const auto vh : mesh.vertices()) {  // skips deleted vertices
-    index[vh.idx()] = static_cast<int>(out.points.size());
-    out.points.push_back(mesh.point(vh));
-    out.radiance.push_back(radiance.empty() ? Rgb(0.0) : radiance[vh.idx()]);
-    if (colours) {
-      if (mesh.has_vertex_colors()) {
-        const auto c = mesh.color(vh);
-        out.colours.push_back({c[0], c[1], c[2]});
-      } else {
-        out.colours.push_back({kGrey, kGrey, kGrey});
-      }
-    }
-  }
-  for (const auto fh : mesh.faces()) {
-    std::array<int, 3> tri{};
-    int k = 0;
-    for (const auto vh : mesh.fv_range(fh)) {
-      if (k < 3) tri[k] = index[vh.idx()];
-      ++k;
-    }
-    if (k != 3) throw std::invalid_argument("append_to_export: face " + std::to_string(fh.idx()) + " is not a triangle");
-    out.triangles.push_back(tri);
-  }
-}
-
 void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
   AtomicOutputs outputs;
   write_mesh(outputs, path, mesh);
@@ -169,7 +129,7 @@ void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const
   om.reserve(mesh.points.size(), 3 * mesh.triangles.size(), mesh.triangles.size());
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
     const auto vh = om.add_vertex(mesh.points[v]);
-    const auto c = mesh.colours.empty() ? std::array<std::uint8_t, 3>{kGrey, kGrey, kGrey} : mesh.colours[v];
+    const auto c = mesh.colours.empty() ? kMissingColour : mesh.colours[v];
     om.set_color(vh, TriMesh::Color(c[0], c[1], c[2]));
     const Rgb r = mesh.radiance.empty() ? Rgb(0.0) : mesh.radiance[v];
     for (int ch = 0; ch < 3; ++ch) om.property(channel[ch], vh) = static_cast<float>(r[ch]);

@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
+#include <nlohmann/json.hpp>
+
 #include "radiosity/form_factor.hpp"
 #include "radiosity/interruptible.hpp"
-#include "radiosity/root_clusters.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/shooter_spread.hpp"
 #include "radiosity/tone_map.hpp"
@@ -20,16 +20,8 @@ namespace lhr {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// Share of max_bytes the link cap plans to fill (refine_links).
-constexpr double kMemoryBudgetUsable = 0.9;
 // New links finished at a time in refine_links(): enough for every core.
 constexpr std::size_t kPendingChunk = std::size_t{1} << 16;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // At most this many root centres stand for a cluster in a link's visibility
 // estimate (its form factor is exact over all its triangles).
@@ -37,71 +29,17 @@ constexpr std::size_t kSurfaceSamples = 16;
 // Refinement passes per iteration: each pass goes one level deeper.
 constexpr int kMaxRefinePasses = 40;
 
-// Whether a planar surface has a point strictly in front of the other's plane.
-bool some_point_in_front(const Surface& a, const Surface& b, double eps) {
-  if (!b.planar) return true;
-  const Vec3& origin = b.points.front();
-  return std::any_of(a.points.begin(), a.points.end(),
-                     [&](const Vec3& p) { return OpenMesh::dot(b.normal, p - origin) > eps; });
-}
-
 }  // namespace
 
 ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& options)
-    : model_(model), options_(options), floor_(model, options.min_edge) {
+    : model_(model), options_(options), floor_(model, options.min_edge), budget_(options.max_links, options.max_bytes) {
   surfaces_.resize(model_.num_surfaces());
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     max_emitted_ = std::max(max_emitted_, luminance(model_.material(s).emission));
   }
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     sync_node_arrays(s);
-    surfaces_[s].root_exposure = root_exposure(model_, s);
-    build_clusters(s, surfaces_[s].root_exposure);
-  }
-}
-
-void ClassicalSolver::build_clusters(int s, const std::vector<double>& root_exposure) {
-  // Median splits of the root centroids along the longest extent: a balanced
-  // tree whose clusters are spatially compact, so a far cluster is a fair
-  // stand-in for its triangles in the BF test.
-  constexpr std::size_t kLeafClusterRoots = 4;
-  std::vector<RootCluster>& clusters = surfaces_[s].clusters;
-  clusters.clear();
-  RootCluster top;
-  for (std::size_t f = 0; f < model_.hierarchy(s).num_roots(); ++f) top.roots.push_back(static_cast<NodeId>(f));
-  clusters.push_back(std::move(top));
-  for (std::size_t c = 0; c < clusters.size(); ++c) {
-    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300), centroid(0, 0, 0), normal(0, 0, 0);
-    double area = 0.0, exposed = 0.0;
-    for (NodeId r : clusters[c].roots) {
-      const double a = model_.area(s, r);
-      const Vec3 p = model_.centroid(s, r);
-      lo.minimize(p);
-      hi.maximize(p);
-      centroid += a * p;
-      normal += a * model_.normal(s, r);
-      area += a;
-      exposed += a * root_exposure[r];
-    }
-    clusters[c].area = area;
-    clusters[c].exposed_area = exposed;
-    clusters[c].centroid = area > 0 ? centroid / area : centroid;
-    clusters[c].normal = normal.norm() > 0 ? normal.normalized() : normal;
-    if (clusters[c].roots.size() <= kLeafClusterRoots) continue;
-    const Vec3 extent = hi - lo;
-    const int axis = extent[0] >= extent[1] && extent[0] >= extent[2] ? 0 : (extent[1] >= extent[2] ? 1 : 2);
-    std::vector<NodeId> roots = clusters[c].roots;
-    const auto middle = roots.begin() + static_cast<std::ptrdiff_t>(roots.size() / 2);
-    std::nth_element(roots.begin(), middle, roots.end(), [&](NodeId a, NodeId b) {
-      const double ka = model_.centroid(s, a)[axis], kb = model_.centroid(s, b)[axis];
-      return ka < kb || (ka == kb && a < b);
-    });
-    RootCluster left, right;
-    left.roots.assign(roots.begin(), middle);
-    right.roots.assign(middle, roots.end());
-    clusters[c].first_child = static_cast<std::int32_t>(clusters.size());
-    clusters.push_back(std::move(left));
-    clusters.push_back(std::move(right));
+    surfaces_[s].clusters = SurfaceClusters(model_, s);
   }
 }
 
@@ -123,23 +61,23 @@ void ClassicalSolver::sync_node_arrays(int s) {
 }
 
 const Rgb& ClassicalSolver::element_radiance(const Element& e) const {
-  return is_cluster(e) ? cluster(e).radiance : surfaces_[e.surface].radiance[e.node];
+  const SurfaceState& st = surfaces_[e.surface];
+  return is_cluster(e) ? st.clusters.radiance[cluster_index(e)] : st.radiance[e.node];
 }
 
 void ClassicalSolver::update_spread(int s) {
   SurfaceState& st = surfaces_[s];
   st.node_spread = constant_node_spread(model_.hierarchy(s), st.radiance);
-  std::vector<Rgb> value;
-  for (const RootCluster& c : st.clusters) value.push_back(c.radiance);
-  st.cluster_spread = cluster_spread(st.clusters, value, st.root_exposure, st.node_spread,
-                                     [&](NodeId root) { return std::array<Rgb, 1>{st.radiance[root]}; });
+  SurfaceClusters& clusters = st.clusters;
+  clusters.spread = cluster_spread(clusters.tree, clusters.radiance, clusters.root_exposure, st.node_spread,
+                                   [&](NodeId root) { return std::array<Rgb, 1>{st.radiance[root]}; });
 }
 
 Rgb ClassicalSolver::element_spread(const Element& e) const {
   const SurfaceState& st = surfaces_[e.surface];
   if (is_cluster(e)) {
-    const std::size_t c = static_cast<std::size_t>(-(e.node + 2));
-    return c < st.cluster_spread.size() ? st.cluster_spread[c] : Rgb(0, 0, 0);
+    const std::size_t c = cluster_index(e);
+    return c < st.clusters.spread.size() ? st.clusters.spread[c] : Rgb(0, 0, 0);
   }
   return static_cast<std::size_t>(e.node) < st.node_spread.size() ? st.node_spread[e.node] : Rgb(0, 0, 0);
 }
@@ -172,7 +110,7 @@ void ClassicalSolver::link_surfaces() {
       if (r == s && scene.surfaces[r].planar) continue;
       const Surface& receiver = scene.surfaces[r];
       const Surface& shooter = scene.surfaces[s];
-      if (!some_point_in_front(shooter, receiver, eps) || !some_point_in_front(receiver, shooter, eps)) continue;
+      if (!may_exchange_light(shooter, receiver, eps)) continue;
       // Receivers start at the roots: receiving links live on leaves only
       // (see refine_links), shooters start as whole surfaces.
       for (std::size_t f = 0; f < model_.hierarchy(r).num_roots(); ++f) {
@@ -265,7 +203,7 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
 }
 
 void ClassicalSolver::compute_coefficients(std::vector<PendingLink>& pending) {
-  const auto start = Clock::now();
+  PhaseTimer timer(stats_.seconds_coefficients);
   std::atomic<std::uint64_t> rays{0};
   interruptible_parallel_for(pending.size(), options_.checkpoint, [&](std::size_t i) {
     std::uint64_t local = 0;
@@ -275,7 +213,6 @@ void ClassicalSolver::compute_coefficients(std::vector<PendingLink>& pending) {
     rays += local;
   });
   stats_.shadow_rays += rays.load();
-  stats_.seconds_coefficients += seconds_since(start);
 }
 
 double ClassicalSolver::estimate_form_factor(const Element& receiver, const Element& shooter) const {
@@ -312,28 +249,12 @@ double ClassicalSolver::estimate_form_factor(const Element& receiver, const Elem
 }
 
 bool ClassicalSolver::refine_links() {
-  const auto start = Clock::now();
   const double coefficient_seconds = stats_.seconds_coefficients;
+  PhaseTimer timer(stats_.seconds_refine);
   const double threshold = options_.eps_bf * max_emitted_;
   std::size_t links_now = count_links();
-  std::size_t link_cap = options_.max_links > 0 ? options_.max_links : std::numeric_limits<std::size_t>::max();
-  bool memory_caps = false;
-  if (options_.max_bytes > 0) {
-    // The links still to make are assumed to bring the data per link so far
-    // (nodes, values), with a tenth of the budget kept back, as in the
-    // linear solver.
-    collect_memory_stats();
-    const std::size_t used = stats_.bytes_total();
-    const double per_link = static_cast<double>(used) / static_cast<double>(std::max<std::size_t>(links_now, 1));
-    const double usable = kMemoryBudgetUsable * static_cast<double>(options_.max_bytes);
-    const std::size_t room = static_cast<double>(used) < usable
-                                 ? static_cast<std::size_t>((usable - static_cast<double>(used)) / per_link)
-                                 : 0;
-    if (links_now + room < link_cap) {
-      link_cap = links_now + room;
-      memory_caps = true;
-    }
-  }
+  if (budget_.counts_bytes()) collect_memory_stats();
+  budget_.plan(links_now, stats_.bytes_total());
   std::vector<PendingLink> pending;
   bool changed = false;
   // New links wait in `pending` for their coefficients, at more bytes each
@@ -395,8 +316,7 @@ bool ClassicalSolver::refine_links() {
       std::vector<Link> kept;
       std::vector<PendingLink> local;
       for (const Link& link : list) {
-        if (push_down || links_now >= link_cap) {
-          if (!push_down) (memory_caps ? stats_.memory_budget_reached : stats_.link_budget_reached) = true;
+        if (push_down || budget_.refuses(links_now, 1, stats_)) {
           kept.push_back(link);
           continue;
         }
@@ -441,12 +361,13 @@ bool ClassicalSolver::refine_links() {
     }
   }
   finish_pending();
-  stats_.seconds_refine += seconds_since(start) - (stats_.seconds_coefficients - coefficient_seconds);
+  // The coefficients of the new links count as their own phase.
+  stats_.seconds_refine -= stats_.seconds_coefficients - coefficient_seconds;
   return changed;
 }
 
 void ClassicalSolver::gather() {
-  const auto start = Clock::now();
+  PhaseTimer timer(stats_.seconds_gather);
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     SurfaceState& st = surfaces_[s];
     const auto sum = [&](const std::vector<Link>& links) {
@@ -456,11 +377,10 @@ void ClassicalSolver::gather() {
     };
     tbb::parallel_for(std::size_t{0}, st.links.size(), [&](std::size_t n) { st.gathered[n] = sum(st.links[n]); });
   }
-  stats_.seconds_gather += seconds_since(start);
 }
 
 double ClassicalSolver::push_pull() {
-  const auto start = Clock::now();
+  PhaseTimer timer(stats_.seconds_push_pull);
   std::vector<double> change(model_.num_surfaces(), 0.0);
   tbb::parallel_for(0, model_.num_surfaces(), [&](int s) {
     SurfaceState& st = surfaces_[s];
@@ -484,45 +404,46 @@ double ClassicalSolver::push_pull() {
       return value;
     };
     for (std::size_t f = 0; f < h.num_roots(); ++f) visit(visit, static_cast<NodeId>(f), Rgb(0, 0, 0));
-    for (RootCluster& c : st.clusters) {
+    for (std::size_t i = 0; i < st.clusters.tree.size(); ++i) {
       // Reflected power goes to the exposed area; emission is a property of
       // every point (a closed-off part of a lamp shines into the back of
       // what covers it).
+      const RootCluster& c = st.clusters.tree[i];
       Rgb reflected(0, 0, 0);
       for (NodeId r : c.roots) reflected += model_.area(s, r) * (st.radiance[r] - m.emission);
-      c.radiance = m.emission;
-      if (c.exposed_area > 0) c.radiance += reflected / c.exposed_area;
+      Rgb& value = st.clusters.radiance[i];
+      value = m.emission;
+      if (c.exposed_area > 0) value += reflected / c.exposed_area;
     }
     update_spread(s);
   });
-  stats_.seconds_push_pull += seconds_since(start);
   return *std::max_element(change.begin(), change.end());
 }
 
 void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
-  const auto checkpoint = [this] {
-    if (options_.checkpoint) options_.checkpoint();
-  };
   link_surfaces();
   push_pull();  // leaves start at their emission
   const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
-  for (int it = 1; it <= options_.max_iterations; ++it) {
+  const auto iteration = [&](int, bool) {
     bool refined = false;
     for (int pass = 0; pass < kMaxRefinePasses; ++pass) {
-      checkpoint();
+      run_checkpoint(options_.checkpoint);
       if (!refine_links()) break;
       refined = true;
     }
-    checkpoint();
+    run_checkpoint(options_.checkpoint);
     gather();
-    const double change = push_pull() / scale;
-    stats_.iterations = it;
-    stats_.final_change = change;
-    if (progress) progress(it, change);
-    if (!refined && change < options_.tolerance) break;
-  }
+    return IterationOutcome{refined, push_pull() / scale};
+  };
+  iterate_until_converged(options_.max_iterations, options_.tolerance, options_.checkpoint, iteration, progress,
+                          stats_);
   stats_.links = count_links();
   collect_memory_stats();
+}
+
+void ClassicalStats::write_json(nlohmann::json& doc) const {
+  SolverStats::write_json(doc, "element_values", bytes_total());
+  doc["seconds"]["refine"] = seconds_refine;
 }
 
 void ClassicalSolver::collect_memory_stats() {
@@ -536,12 +457,10 @@ void ClassicalSolver::collect_memory_stats() {
     stats_.leaves += h.num_leaves();
     stats_.bytes_geometry += h.geometry_bytes();
     stats_.bytes_hierarchy += h.hierarchy_bytes();
-    stats_.bytes_values += (st.radiance.capacity() + st.gathered.capacity() + st.node_spread.capacity() +
-                            st.cluster_spread.capacity()) *
-                               sizeof(Rgb) +
-                           st.links.capacity() * sizeof(std::vector<Link>) +
-                           st.clusters.capacity() * sizeof(RootCluster);
-    for (const RootCluster& c : st.clusters) stats_.bytes_values += c.roots.capacity() * sizeof(NodeId);
+    // The shooters above the roots count with the hierarchy, as in LinearSolver.
+    stats_.bytes_hierarchy += st.clusters.bytes();
+    stats_.bytes_values += (st.radiance.capacity() + st.gathered.capacity() + st.node_spread.capacity()) * sizeof(Rgb) +
+                           st.links.capacity() * sizeof(std::vector<Link>);
     for (const auto& l : st.links) stats_.bytes_links += l.capacity() * sizeof(Link);
   }
 }

@@ -26,6 +26,7 @@
 
 #include "radiosity/element_floor.hpp"
 #include "radiosity/scene_model.hpp"
+#include "radiosity/solver_frame.hpp"
 
 namespace lhr {
 
@@ -53,25 +54,11 @@ struct ClassicalOptions {
   std::function<void()> checkpoint = {};
 };
 
-struct ClassicalStats {
-  std::size_t links = 0;
-  std::size_t leaves = 0;
-  std::size_t nodes = 0;
-  int iterations = 0;
-  bool link_budget_reached = false;    // max_links stopped refinement
-  bool memory_budget_reached = false;  // max_bytes stopped refinement
-  std::uint64_t shadow_rays = 0;
-  double seconds_refine = 0.0;        // oracle and splits
-  double seconds_coefficients = 0.0;  // form factors and visibility of new links
-  double seconds_gather = 0.0;
-  double seconds_push_pull = 0.0;
-  double final_change = 0.0;  // relative to the brightest emitted luminance
-  // Memory, bytes (allocated capacity), as LinearStats counts it.
-  std::size_t bytes_geometry = 0;   // vertex positions and initial meshes
-  std::size_t bytes_hierarchy = 0;  // quadtree nodes
-  std::size_t bytes_values = 0;     // per-node radiance, gathered value, link list header; root clusters
-  std::size_t bytes_links = 0;
+struct ClassicalStats : SolverStats {
+  double seconds_refine = 0.0;  // oracle and splits
   std::size_t bytes_total() const { return bytes_geometry + bytes_hierarchy + bytes_values + bytes_links; }
+  // stats.json's entries (docs/design.md §1 outputs).
+  void write_json(nlohmann::json& doc) const;
 };
 
 class ClassicalSolver {
@@ -105,15 +92,6 @@ class ClassicalSolver {
     std::int32_t surface;
     NodeId node;
   };
-  struct RootCluster {
-    std::vector<NodeId> roots;
-    std::int32_t first_child = -1;  // two consecutive child clusters, or -1: children are the roots
-    double area = 0.0;
-    Vec3 centroid{0, 0, 0};
-    Vec3 normal{0, 0, 0};  // unit mean normal
-    double exposed_area = 0.0;  // area of its points that are not closed off
-    Rgb radiance{0, 0, 0};      // emission + reflected power / (π exposed_area)
-  };
   struct Link {
     Element shooter;
     float form_factor;
@@ -123,12 +101,11 @@ class ClassicalSolver {
     std::vector<Rgb> radiance;  // per node
     std::vector<Rgb> gathered;  // per node
     std::vector<std::vector<Link>> links;  // per node: links this node receives
-    std::vector<RootCluster> clusters;  // [0] = the whole surface
-    // How far each node's and each cluster's one value is from the leaves it
-    // stands for (shooter_spread.hpp).
+    // A cluster's radiance: its emission + reflected power / (π exposed_area).
+    SurfaceClusters clusters;
+    // How far each node's one value is from the leaves it stands for
+    // (shooter_spread.hpp).
     std::vector<Rgb> node_spread;
-    std::vector<Rgb> cluster_spread;
-    std::vector<double> root_exposure;  // per root, root_exposure()
   };
   struct PendingLink {
     Element receiver;
@@ -145,9 +122,9 @@ class ClassicalSolver {
   void gather();
   double push_pull();
   void sync_node_arrays(int s);
-  void build_clusters(int s, const std::vector<double>& root_exposure);
   static bool is_cluster(const Element& e) { return e.node <= kSurfaceElement; }
-  const RootCluster& cluster(const Element& e) const { return surfaces_[e.surface].clusters[-(e.node + 2)]; }
+  static std::size_t cluster_index(const Element& e) { return static_cast<std::size_t>(-(e.node + 2)); }
+  const RootCluster& cluster(const Element& e) const { return surfaces_[e.surface].clusters.tree[cluster_index(e)]; }
   const Rgb& element_radiance(const Element& e) const;
   void update_spread(int s);
   Rgb element_spread(const Element& e) const;
@@ -161,6 +138,7 @@ class ClassicalSolver {
   std::vector<SurfaceState> surfaces_;
   double max_emitted_ = 0.0;
   ElementFloor floor_;
+  LinkBudget budget_;
   ClassicalStats stats_;
 };
 

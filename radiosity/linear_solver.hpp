@@ -25,6 +25,7 @@
 #include "radiosity/root_clusters.hpp"
 #include "radiosity/scene_model.hpp"
 #include "radiosity/shooter_spread.hpp"
+#include "radiosity/solver_frame.hpp"
 #include "radiosity/tone_map.hpp"
 
 namespace lhr {
@@ -92,41 +93,27 @@ struct LinearOptions {
   std::function<void()> checkpoint;
 };
 
-struct LinearStats {
-  std::size_t links = 0;
+struct LinearStats : SolverStats {
   std::size_t graphs = 0;
   std::size_t graph_vertices = 0;
-  std::size_t nodes = 0;
-  std::size_t leaves = 0;
   std::vector<std::size_t> leaves_per_level;
-  int iterations = 0;
-  bool link_budget_reached = false;    // max_links stopped refinement
-  bool memory_budget_reached = false;  // max_bytes stopped refinement
   std::size_t links_linked_past_budget = 0;  // first links of shooters that began after the cap
   // Power of the surfaces left out of progressive linking, as a fraction of
   // the emitted power (at most link_power).
   double power_left_out = 0.0;
-  std::uint64_t shadow_rays = 0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
-  double final_change = 0.0;
   double world_adaptation = 0.0;
-  // Memory, bytes.
-  std::size_t bytes_geometry = 0;   // vertex positions and initial meshes
-  std::size_t bytes_hierarchy = 0;  // quadtree nodes
-  std::size_t bytes_values = 0;     // per-vertex radiance and bookkeeping
-  std::size_t bytes_graphs = 0;     // graph node states, vertex tables
-  std::size_t bytes_links = 0;
+  std::size_t bytes_graphs = 0;  // graph node states, vertex tables
   std::size_t bytes_total() const {
     return bytes_geometry + bytes_hierarchy + bytes_values + bytes_graphs + bytes_links;
   }
-  double seconds_linking = 0.0;       // new graphs
-  double seconds_coefficients = 0.0;  // form factors and visibility
-  double seconds_gather = 0.0;
-  double seconds_push_pull = 0.0;
-  double seconds_oracles = 0.0;       // both oracles and the splits they make
+  double seconds_linking = 0.0;  // new graphs
+  double seconds_oracles = 0.0;  // both oracles and the splits they make
   double seconds_importance = 0.0;
+  // stats.json's entries (docs/design.md §1 outputs).
+  void write_json(nlohmann::json& doc) const;
 };
 
 class LinearSolver {
@@ -157,16 +144,13 @@ class LinearSolver {
     // Per vertex: 1 when the point is enclosed on both sides (a floor vertex
     // under a box): it receives nothing, whatever its neighbours receive.
     std::vector<std::uint8_t> hidden;
-    std::vector<RootCluster> clusters;
+    SurfaceClusters clusters;  // a cluster's radiance: the mean over it
     std::vector<std::array<std::int32_t, 3>> root_edges;  // root_corner_edges
     ClusterOutlines outlines;                              // planar surfaces only
-    std::vector<double> root_exposure;  // per root: its fraction open to the scene
-    std::vector<Rgb> cluster_radiance;  // mean over each cluster
     // What each node shoots with and how far that is from the radiance it
     // stands for; the same bound for each cluster's mean (shooter_spread.hpp).
     LinearShooterValues shooter;
     std::vector<double> root_luminance;  // per root: its mean luminance at the last pull
-    std::vector<Rgb> cluster_spread;
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it
     std::vector<double> importance;  // per node: pixels plus what reflection makes of it elsewhere
@@ -180,6 +164,11 @@ class LinearSolver {
     std::size_t slot;
   };
 
+  // The initial vertices vertex v is interpolated from, following the
+  // midpoint parents: 1 on an initial vertex, 2 on an initial edge, 3 inside
+  // an initial face. Their count is returned.
+  static int initial_ancestors(const std::vector<std::array<VertexId, 2>>& parents, VertexId v,
+                               std::array<VertexId, 3>& ancestors);
   void sync_vertices(int s);
   bool link_new_shooters();
   void compute_coefficients(std::vector<PendingLink>& pending);
@@ -221,6 +210,9 @@ class LinearSolver {
   // makes (without coefficients) to created.
   bool split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created);
   bool refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone);
+  class ReceiverTests;
+  std::vector<NodeId> receiver_leaves_to_split(int graph, const ToneMap& tone);
+  bool split_receiver_leaves(int graph, const std::vector<NodeId>& to_split, std::vector<PendingLink>& pending);
   void seed_vertices(int graph, const std::vector<InteractionGraph::NewVertex>& created,
                      std::vector<PendingLink>& pending);
   Rgb shooter_value(int s, NodeId element, int l) const;
@@ -233,8 +225,6 @@ class LinearSolver {
   std::vector<NodeId> children(int s, NodeId element);
   std::size_t count_links() const;
   void collect_stats();
-  void update_link_cap();
-  bool over_budget(std::size_t new_links);
 
   SceneModel& model_;
   LinearOptions options_;
@@ -255,10 +245,8 @@ class LinearSolver {
   double adaptation_ = 1.0;  // log-average luminance the camera sees
   double brightest_ = 1.0;
   std::size_t links_now_ = 0;
-  // Refinement makes no link beyond this: max_links, or fewer when the
-  // memory budget is nearer (memory_caps_).
-  std::size_t link_cap_ = std::numeric_limits<std::size_t>::max();
-  bool memory_caps_ = false;
+  // Refinement makes no link beyond its cap.
+  LinkBudget budget_;
   LinearStats stats_;
 };
 

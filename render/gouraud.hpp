@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/image_io.hpp"
+#include "mesh/image.hpp"
 #include "mesh/scene.hpp"
 #include "mesh/types.hpp"
 #include "radiosity/linear_solver.hpp"

@@ -23,7 +23,7 @@
 #include <memory>
 #include <vector>
 
-#include "io/image_io.hpp"
+#include "mesh/image.hpp"
 #include "radiosity/tone_map.hpp"
 #include "render/solution_view.hpp"
 

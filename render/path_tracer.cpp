@@ -17,6 +17,7 @@
 #include "radiosity/sampling.hpp"
 #include "radiosity/tone_map.hpp"
 #include "render/camera_rays.hpp"
+#include "render/polygon_triangulation.hpp"
 
 namespace lhr {
 
@@ -79,57 +80,6 @@ void throw_on_error(RTCDevice device, const char* what) {
     throw std::runtime_error(std::string("Embree failed while ") + what + " (error " +
                              std::to_string(static_cast<int>(error)) + ")");
   }
-}
-
-double orient2(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-// Triangles (as corner indices into the polygon) tiling a planar polygon that
-// is counter-clockwise in q: a fan when every fan triangle is
-// counter-clockwise, else ear clipping. Collinear pieces are dropped; an
-// empty optional means the polygon is self-intersecting or clockwise.
-std::optional<std::vector<std::array<int, 3>>> triangulate(const std::vector<std::array<double, 2>>& q) {
-  const int n = static_cast<int>(q.size());
-  std::vector<std::array<int, 3>> out;
-  bool fan_ok = true;
-  for (int i = 1; i + 1 < n && fan_ok; ++i) fan_ok = orient2(q[0], q[i], q[i + 1]) >= 0;
-  if (fan_ok) {
-    for (int i = 1; i + 1 < n; ++i) {
-      if (orient2(q[0], q[i], q[i + 1]) > 0) out.push_back({0, i, i + 1});
-    }
-    return out;
-  }
-  std::vector<int> ring(n);
-  for (int i = 0; i < n; ++i) ring[i] = i;
-  while (ring.size() >= 3) {
-    const std::size_t m = ring.size();
-    bool clipped = false;
-    for (std::size_t i = 0; i < m && !clipped; ++i) {
-      const int a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
-      if (!(orient2(q[a], q[b], q[c]) > 0)) continue;
-      bool empty = true;
-      for (std::size_t j = 0; j < m && empty; ++j) {
-        const int r = ring[j];
-        if (r == a || r == b || r == c || q[r] == q[a] || q[r] == q[b] || q[r] == q[c]) continue;
-        empty = !(orient2(q[a], q[b], q[r]) >= 0 && orient2(q[b], q[c], q[r]) >= 0 && orient2(q[c], q[a], q[r]) >= 0);
-      }
-      if (empty) {
-        out.push_back({a, b, c});
-        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
-        clipped = true;
-      }
-    }
-    for (std::size_t i = 0; i < m && !clipped; ++i) {
-      const int a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
-      if (orient2(q[a], q[b], q[c]) == 0) {
-        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
-        clipped = true;
-      }
-    }
-    if (!clipped) return std::nullopt;
-  }
-  return out;
 }
 
 struct Triangle {
@@ -385,7 +335,7 @@ PathTracer::PathTracer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
       frame_around(normal, u, v);
       std::vector<std::array<double, 2>> q;
       for (int i : poly) q.push_back({OpenMesh::dot(surface.points[i], u), OpenMesh::dot(surface.points[i], v)});
-      const auto pieces = triangulate(q);
+      const auto pieces = triangulate_planar_polygon(q);
       if (!pieces) {
         throw std::runtime_error("surface " + surface.name + ": polygon " + std::to_string(pi) +
                                  " is self-intersecting; the path tracer cannot triangulate it");

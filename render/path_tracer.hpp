@@ -4,13 +4,17 @@
 // next-event estimation on emitters (triangles picked in proportion to their
 // power, points uniform by area), cosine-weighted bounces, the two combined
 // by multiple importance sampling, and Russian roulette. It builds its own
-// Embree scene from the input polygons and shares no transport code with the
-// radiosity solvers, so it is an independent check of them, aligned pixel for
-// pixel with the Gouraud view. What it does share: the camera model, the
-// Rec. 709 luminance (radiosity/tone_map.hpp), the hash its random numbers
-// come from, and the probe directions that tell a point inside a closed
-// object (radiosity/sampling.hpp), so that a vertex on a contact line takes
-// its value from the same side in both.
+// Embree scene from the input polygons (render/polygon_triangulation) and
+// shares no transport code with the radiosity solvers: no form factor,
+// visibility, link or solver code, and no tone map. So it is an independent
+// check of them, aligned pixel for pixel with the Gouraud view. What it does
+// take from radiosity/, none of which computes light: the Rec. 709 luminance
+// weights (radiosity/tone_map.hpp), in which its noise is measured; the hash
+// its random numbers come from (radiosity/sampling.hpp); and the probe
+// directions that tell a point inside a closed object (radiosity/sampling.hpp),
+// so that a vertex on a contact line takes its value from the same side in
+// both. With the solvers' images it shares the camera model (mesh/scene.hpp,
+// render/camera_rays).
 
 #include <cstdint>
 #include <functional>
@@ -18,7 +22,7 @@
 #include <optional>
 #include <vector>
 
-#include "io/image_io.hpp"
+#include "mesh/image.hpp"
 #include "mesh/scene.hpp"
 
 namespace lhr {

@@ -1,22 +1,18 @@
 #include "render/scene_solution.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "radiosity/memory_budget.hpp"
 #include "radiosity/scene_model.hpp"
+#include "radiosity/solver_frame.hpp"
 #include "render/gouraud.hpp"
 
 namespace lhr {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 nlohmann::json camera_json(const Camera& camera) {
   return {{"eye", {camera.eye[0], camera.eye[1], camera.eye[2]}},
@@ -28,9 +24,7 @@ nlohmann::json camera_json(const Camera& camera) {
 }
 
 struct MethodRun {
-  nlohmann::json parameters, stats, seconds;
-  std::size_t elements = 0, links = 0;
-  int iterations = 0;
+  nlohmann::json parameters, stats;
   bool budget_reached = false;
   bool memory_budget_reached = false;
 };
@@ -56,9 +50,6 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
   MethodRun run;
   run.budget_reached = st.link_budget_reached;
   run.memory_budget_reached = st.memory_budget_reached;
-  run.elements = st.leaves;
-  run.links = st.links;
-  run.iterations = st.iterations;
   run.parameters = {{"eps_pixel", options.eps_pixel},
                     {"eps_link", options.eps_link},
                     {"eps_vertex", options.eps_vertex},
@@ -70,34 +61,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
                     {"max_links", options.max_links},
                     {"max_bytes", options.max_bytes},
                     {"visibility_samples", options.visibility_samples}};
-  const std::size_t other_bytes = st.bytes_geometry + st.bytes_hierarchy + st.bytes_values;
-  run.stats = {{"nodes", st.nodes},
-               {"graphs", st.graphs},
-               {"graph_vertices", st.graph_vertices},
-               {"elements_per_level", st.leaves_per_level},
-               {"receiver_splits", st.receiver_splits},
-               {"shooter_refinements", st.shooter_refinements},
-               {"vertex_error_refinements", st.vertex_error_refinements},
-               {"links_linked_past_budget", st.links_linked_past_budget},
-               {"power_left_out", st.power_left_out},
-               {"final_change", st.final_change},
-               {"shadow_rays", st.shadow_rays},
-               {"oracle_adaptation", st.world_adaptation},
-               {"bytes",
-                {{"geometry", st.bytes_geometry},
-                 {"hierarchy", st.bytes_hierarchy},
-                 {"vertex_values", st.bytes_values},
-                 {"graphs", st.bytes_graphs},
-                 {"links", st.bytes_links},
-                 // Paper §5 reports graphs ≈ 30 % over what they organise.
-                 {"graph_overhead", other_bytes + st.bytes_links > 0
-                                        ? static_cast<double>(st.bytes_graphs) /
-                                              static_cast<double>(other_bytes + st.bytes_links)
-                                        : 0.0},
-                 {"total", st.bytes_total()}}}};
-  run.seconds = {{"linking", st.seconds_linking}, {"coefficients", st.seconds_coefficients},
-                 {"gather", st.seconds_gather},   {"push_pull", st.seconds_push_pull},
-                 {"oracles", st.seconds_oracles}, {"importance", st.seconds_importance}};
+  st.write_json(run.stats);
   return run;
 }
 
@@ -114,9 +78,6 @@ MethodRun run_classical(SceneModel& model, const SolveSettings& settings, std::v
   MethodRun run;
   run.budget_reached = st.link_budget_reached;
   run.memory_budget_reached = st.memory_budget_reached;
-  run.elements = st.leaves;
-  run.links = st.links;
-  run.iterations = st.iterations;
   run.parameters = {{"eps_bf", options.eps_bf},
                     {"min_edge", options.min_edge > 0 ? options.min_edge : model.max_edge() / 32.0},
                     {"max_iterations", options.max_iterations},
@@ -124,19 +85,7 @@ MethodRun run_classical(SceneModel& model, const SolveSettings& settings, std::v
                     {"max_links", options.max_links},
                     {"max_bytes", options.max_bytes},
                     {"visibility_samples", options.visibility_samples}};
-  run.stats = {{"nodes", st.nodes},
-               {"final_change", st.final_change},
-               {"shadow_rays", st.shadow_rays},
-               {"bytes",
-                {{"geometry", st.bytes_geometry},
-                 {"hierarchy", st.bytes_hierarchy},
-                 {"element_values", st.bytes_values},
-                 {"links", st.bytes_links},
-                 {"total", st.bytes_total()}}}};
-  run.seconds = {{"refine", st.seconds_refine},
-                 {"coefficients", st.seconds_coefficients},
-                 {"gather", st.seconds_gather},
-                 {"push_pull", st.seconds_push_pull}};
+  st.write_json(run.stats);
   return run;
 }
 
@@ -233,17 +182,18 @@ std::vector<std::string> solution_warnings(const SolveSettings& settings, const 
 
 SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
                           const std::function<void(int, double)>& progress) {
-  const auto t_mesh = Clock::now();
+  double seconds_meshing = 0.0, seconds_solve = 0.0, seconds_view = 0.0;
+  PhaseTimer meshing(seconds_meshing);
   SceneModel model(scene, settings.meshing);
-  const double seconds_meshing = seconds_since(t_mesh);
+  meshing.stop();
 
   std::vector<SurfaceSolution> surfaces(model.num_surfaces());
-  const auto t_solve = Clock::now();
+  PhaseTimer solving(seconds_solve);
   MethodRun run = settings.method == SolveMethod::kLinear ? run_linear(model, settings, surfaces, progress)
                                                           : run_classical(model, settings, surfaces, progress);
-  const double seconds_solve = seconds_since(t_solve);
+  solving.stop();
 
-  const auto t_view = Clock::now();
+  PhaseTimer viewing(seconds_view);
   SceneSolution out;
   out.view = make_solution_view(surfaces, settings.camera, settings.tone);
   out.view.export_mesh.colour_meaning =
@@ -260,17 +210,12 @@ SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
                          {"camera", camera_json(settings.camera)}});
   doc["parameters"] = run.parameters;
   doc["surfaces"] = model.num_surfaces();
-  doc["elements"] = run.elements;
-  doc["links"] = run.links;
-  doc["iterations"] = run.iterations;
-  doc["link_budget_reached"] = run.budget_reached;
-  doc["memory_budget_reached"] = run.memory_budget_reached;
   doc.update(run.stats);
   doc["exported_vertices"] = out.view.export_mesh.points.size();
   doc["exported_triangles"] = out.view.export_mesh.triangles.size();
   doc["world_adaptation"] = out.view.world_adaptation;
-  run.seconds.update({{"meshing", seconds_meshing}, {"solve", seconds_solve}, {"view", seconds_since(t_view)}});
-  doc["seconds"] = run.seconds;
+  viewing.stop();
+  doc["seconds"].update({{"meshing", seconds_meshing}, {"solve", seconds_solve}, {"view", seconds_view}});
   return out;
 }
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "io/image_io.hpp"
-#include "io/mesh_io.hpp"
+#include "mesh/export_mesh.hpp"
 #include "mesh/hierarchy.hpp"
+#include "mesh/image.hpp"
 #include "mesh/scene.hpp"
 #include "radiosity/tone_map.hpp"
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/image_io.hpp"
+#include "mesh/image.hpp"
 #include "mesh/types.hpp"
 
 namespace lhr {

@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-#include "io/mesh_io.hpp"
+#include "mesh/export_mesh.hpp"
 #include "mesh/validate.hpp"
 #include "render/path_tracer.hpp"
 #include "render/solution_view.hpp"

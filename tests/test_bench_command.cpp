@@ -16,8 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/bench/bench_plan.hpp"
 #include "io/image_io.hpp"
-#include "render/bench_plan.hpp"
 #include "test_support.hpp"
 
 namespace lhr {

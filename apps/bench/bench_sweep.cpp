@@ -1,4 +1,4 @@
-#include "render/bench_sweep.hpp"
+#include "apps/bench/bench_sweep.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -8,9 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "apps/bench/child_process.hpp"
+#include "apps/bench/gnuplot_chart.hpp"
 #include "io/atomic_file.hpp"
-#include "io/child_process.hpp"
-#include "io/gnuplot_chart.hpp"
 #include "io/image_io.hpp"
 #include "io/input_error.hpp"
 #include "io/json_file.hpp"

@@ -1,4 +1,4 @@
-#include "render/bench_plan.hpp"
+#include "apps/bench/bench_plan.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -45,6 +45,15 @@ void reject_duplicates(const std::vector<BenchRun>& runs, const std::string& opt
   for (const BenchRun& run : runs) {
     if (!seen.insert(run.id()).second) throw std::invalid_argument(option + " lists " + run.label() + " twice");
   }
+}
+
+// One run per item of an option's list, none twice.
+template <typename ParseItem>
+std::vector<BenchRun> parse_runs(const std::string& text, const std::string& option, ParseItem parse_item) {
+  std::vector<BenchRun> runs;
+  for (const std::string& item : split_list(text, option)) runs.push_back(parse_item(item));
+  reject_duplicates(runs, option);
+  return runs;
 }
 
 // Fixed decimals for a CSV cell.
@@ -107,8 +116,7 @@ std::string BenchRun::label() const {
 }
 
 std::vector<BenchRun> parse_linear_list(const std::string& text) {
-  std::vector<BenchRun> runs;
-  for (const std::string& item : split_list(text, "--linear")) {
+  return parse_runs(text, "--linear", [](const std::string& item) {
     const std::size_t slash = item.find('/');
     const auto link = slash == std::string::npos ? std::nullopt : parse_positive(trim(item.substr(0, slash)));
     const auto pixel = slash == std::string::npos ? std::nullopt : parse_positive(trim(item.substr(slash + 1)));
@@ -120,29 +128,23 @@ std::vector<BenchRun> parse_linear_list(const std::string& text) {
     run.method = BenchMethod::kLinear;
     run.eps_link = *link;
     run.eps_pixel = *pixel;
-    runs.push_back(run);
-  }
-  reject_duplicates(runs, "--linear");
-  return runs;
+    return run;
+  });
 }
 
 std::vector<BenchRun> parse_classical_list(const std::string& text) {
-  std::vector<BenchRun> runs;
-  for (const std::string& item : split_list(text, "--classical")) {
+  return parse_runs(text, "--classical", [](const std::string& item) {
     const auto eps = parse_positive(item);
     if (!eps) throw std::invalid_argument("--classical: \"" + item + "\" is not a positive eps_bf (e.g. 0.003)");
     BenchRun run;
     run.method = BenchMethod::kClassical;
     run.eps_bf = *eps;
-    runs.push_back(run);
-  }
-  reject_duplicates(runs, "--classical");
-  return runs;
+    return run;
+  });
 }
 
 std::vector<BenchRun> parse_spp_list(const std::string& text) {
-  std::vector<BenchRun> runs;
-  for (const std::string& item : split_list(text, "--spp")) {
+  return parse_runs(text, "--spp", [](const std::string& item) {
     int spp = 0;
     const char* end = item.data() + item.size();
     const auto [ptr, ec] = std::from_chars(item.data(), end, spp);
@@ -153,10 +155,8 @@ std::vector<BenchRun> parse_spp_list(const std::string& text) {
     BenchRun run;
     run.method = BenchMethod::kPath;
     run.spp = spp;
-    runs.push_back(run);
-  }
-  reject_duplicates(runs, "--spp");
-  return runs;
+    return run;
+  });
 }
 
 std::vector<BenchMethod> parse_method_list(const std::string& text) {

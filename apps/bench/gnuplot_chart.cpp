@@ -1,4 +1,4 @@
-#include "io/gnuplot_chart.hpp"
+#include "apps/bench/gnuplot_chart.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/child_process.hpp"
+#include "apps/bench/child_process.hpp"
 
 namespace lhr {
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "apps/bench/bench_plan.hpp"
 #include "mesh/scene.hpp"
-#include "render/bench_plan.hpp"
 #include "render/solution_view.hpp"
 
 namespace lhr {

@@ -2,7 +2,7 @@
 // What `lhr bench` runs and what it reports (issue 5, docs/design.md §5): the sweep
 // of both radiosity methods and the path tracer over their cost parameters,
 // the command line of each run, and bench.csv. No process is started here,
-// so all of it is testable on its own (the sweep itself: render/bench_sweep).
+// so all of it is testable on its own (the sweep itself: apps/bench/bench_sweep).
 
 #include <cstddef>
 #include <cstdint>
@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/gnuplot_chart.hpp"
+#include "apps/bench/gnuplot_chart.hpp"
 #include "render/image_metrics.hpp"
 
 namespace lhr {

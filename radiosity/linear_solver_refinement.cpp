@@ -1,0 +1,432 @@
+#include "radiosity/linear_solver.hpp"
+
+// LinearSolver's refinement: the shooter oracle (paper §4.2) with the error
+// of the shooter's own values, the receiver oracle (paper §4.1) with its
+// object-space tests, and the seeding of the vertices a split makes.
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "radiosity/form_factor.hpp"
+#include "radiosity/receiver_oracle.hpp"
+
+namespace lhr {
+
+namespace {
+
+// eps_vertex and the facet-edge test compare with at least this fraction of
+// the adaptation luminance, so that nodes in the dark do not refine without
+// bound (the relative norm floors its errors at 1 % of the mean alike).
+constexpr double kRelativeErrorFloor = 0.01;
+// Receiver refinement in object space: a graph edge is split when the power
+// linear interpolation misplaces across it reaches this fraction of the
+// emitted power (refine_receivers). Next to concave edges that error has one
+// sign, a loss, and every bounce repeats it; at 10⁻⁴ a room lit only
+// through a door lost 3 % of its light that way, and a bright closed room
+// 1 % of its lamp's power (docs/accuracy.md, "Concave junctions").
+constexpr double kPowerTolerance = 1e-5;
+// A graph leaf whose receiver node another graph has split already is split
+// here too when, along one of its edges, what this graph's shooter sends per
+// unit of unoccluded form factor changes by more than this fraction of the
+// larger end (refine_receivers; docs/accuracy.md, "Interpolated visibility").
+constexpr double kDoubtfulInterpolation = 0.25;
+// Shooter-oracle passes per iteration: each pass opens links one level deeper.
+constexpr int kMaxShooterPasses = 24;
+
+std::uint64_t element_key(int graph, NodeId element) {
+  return (static_cast<std::uint64_t>(graph) << 32) | static_cast<std::uint32_t>(element);
+}
+
+}  // namespace
+
+double LinearSolver::representation_error(int s, const GraphLink& link, const Rgb& rho) const {
+  // docs/design.md §4, shooter oracle: the paper's test weighs what a link carries,
+  // not how wrong its shooter's values may be for this receiver; the link's
+  // transfer is off by at most its form factor times the element's spread
+  // (a whole floor's mean for a block face that sees only the floor's dark
+  // front; a coarse triangle's corners across a shadow inside it).
+  const SurfaceState& st = surfaces_[s];
+  const bool cluster = is_cluster_element(link.shooter);
+  const std::vector<Rgb>& spreads = cluster ? st.clusters.spread : st.shooter.spread;
+  const std::size_t index = cluster ? static_cast<std::size_t>(cluster_index(link.shooter))
+                                    : static_cast<std::size_t>(link.shooter);
+  if (index >= spreads.size()) return 0.0;
+  Rgb error = static_cast<double>(link.coefficients.visible()) * spreads[index];
+  for (int c = 0; c < 3; ++c) error[c] *= rho[c];
+  return luminance(error);
+}
+
+std::unordered_map<std::uint64_t, double> LinearSolver::shared_representation_error(
+    const std::vector<PendingLink>& links) const {
+  // An element's representation error is not a receiver's own: every node
+  // linked to it in a graph inherits it (receiver splits seed new nodes with
+  // their neighbours' links), so a whole floor's mean shown on a whole wall
+  // is one error over all the wall's pixels, though each node alone covers
+  // too few to matter. Its image cost is the sum over those nodes.
+  std::unordered_map<std::uint64_t, double> shared;
+  for (const PendingLink& p : links) {
+    const InteractionGraph& g = graphs_[p.graph];
+    const GraphLink& link = g.links(p.vertex)[p.slot];
+    double& sum = shared[element_key(p.graph, link.shooter)];
+    if (static_cast<std::size_t>(p.graph) >= graph_importance_.size() ||
+        static_cast<std::size_t>(p.vertex) >= graph_importance_[p.graph].size()) {
+      continue;
+    }
+    const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+    sum += representation_error(g.shooter_surface(), link, rho) * graph_importance_[p.graph][p.vertex];
+  }
+  return shared;
+}
+
+void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::NewVertex>& created,
+                                 std::vector<PendingLink>& pending) {
+  InteractionGraph& g = graphs_[gi];
+  for (const auto& nv : created) {
+    // A new node sees the shooter through the same elements as the end point
+    // of its edge (one cut of S's hierarchy); the shooter oracle refines it
+    // from there. Its coefficients are new; its neighbours' are kept (paper
+    // §3: 9 new coefficients per receiver split, not 36).
+    std::vector<GraphLink> links;
+    for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}});
+    for (std::size_t t = 0; t < links.size(); ++t) pending.push_back({gi, nv.index, t});
+    links_now_ += links.size();
+    g.links(nv.index) = std::move(links);
+  }
+}
+
+bool LinearSolver::refine_shooters() {
+  // Paper §4.2: a link whose largest basis contribution, reflected and seen by
+  // the camera, is significant is replaced by links from the shooter's
+  // children, recursively (a pass per level). The first pass takes the
+  // links graph by graph, in the order a list of all of them would have:
+  // such a list is as large as the links themselves and would double the
+  // memory --max-memory bounds (docs/robustness.md).
+  if (options_.checkpoint) options_.checkpoint();
+  bool changed = false;
+  std::vector<PendingLink> created;
+  std::vector<PendingLink> candidates;
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    candidates.clear();
+    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
+    }
+    changed |= split_shooters(candidates, created);
+  }
+  compute_coefficients(created);
+  candidates = std::move(created);
+  for (int pass = 1; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
+    if (options_.checkpoint) options_.checkpoint();
+    std::vector<PendingLink> next;
+    changed |= split_shooters(candidates, next);
+    compute_coefficients(next);
+    candidates = std::move(next);
+  }
+  return changed;
+}
+
+bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
+  bool changed = false;
+  const std::vector<std::vector<double>>& importance = graph_importance_;
+  const auto shared = shared_representation_error(candidates);
+  for (const PendingLink& p : candidates) {
+    InteractionGraph& g = graphs_[p.graph];
+    const int s = g.shooter_surface();
+    if (static_cast<std::size_t>(p.graph) >= importance.size() ||
+        static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) {
+      continue;
+    }
+    const GraphLink link = g.links(p.vertex)[p.slot];
+    if (!splittable(s, link.shooter, g.receiver_surface())) continue;
+    const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+    double largest = 0.0;
+    for (int l = 0; l < 3; ++l) {
+      Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
+      for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
+      largest = std::max(largest, luminance(transfer));
+    }
+    // Or the element's own representation is off, over every node sharing it.
+    const double shared_error = shared.at(element_key(p.graph, link.shooter));
+    const auto own_error_too_large = [&] {
+      if (!(options_.eps_vertex > 0)) return false;
+      // A node made in this refinement pass has no value yet: the floor
+      // stands for it until the next push.
+      const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
+      const VertexId v = g.vertex(p.vertex);
+      const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
+      const double floor = kRelativeErrorFloor * adaptation_;
+      return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
+    };
+    const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
+                      shared_error / adaptation_ > options_.eps_link;
+    const bool own = !seen && own_error_too_large();
+    if (!seen && !own) continue;
+    if (budget_.refuses(links_now_, 3, stats_)) continue;
+    const std::vector<NodeId> kids = children(s, link.shooter);
+    std::vector<GraphLink>& links = g.links(p.vertex);
+    links[p.slot] = {kids[0], {}};
+    created.push_back(p);
+    for (std::size_t c = 1; c < kids.size(); ++c) {
+      created.push_back({p.graph, p.vertex, links.size()});
+      links.push_back({kids[c], {}});
+    }
+    links_now_ += kids.size() - 1;
+    ++stats_.shooter_refinements;
+    if (own) ++stats_.vertex_error_refinements;
+    changed = true;
+  }
+  return changed;
+}
+
+// The tests refine_receivers() makes on the leaves and edges of one graph.
+class LinearSolver::ReceiverTests {
+ public:
+  ReceiverTests(LinearSolver& solver, int graph, const ToneMap& tone)
+      : solver_(solver),
+        model_(solver.model_),
+        graph_(graph),
+        g_(solver.graphs_[graph]),
+        r_(g_.receiver_surface()),
+        s_(g_.shooter_surface()),
+        h_(model_.hierarchy(r_)),
+        st_(solver.surfaces_[r_]),
+        rho_(model_.material(r_).reflectance),
+        oracle_(tone, solver.options_.vis_threshold) {
+    prepare_small_shooter();
+    if (static_cast<std::size_t>(graph) < solver.unoccluded_at_.size()) unoccluded_ = &solver.unoccluded_at_[graph];
+    prepare_facet_spread();
+  }
+
+  // S's reflected contribution at graph vertex i.
+  double own(int i) const {
+    Rgb c = g_.gathered(i);
+    for (int k = 0; k < 3; ++k) c[k] *= rho_[k];
+    return luminance(c);
+  }
+
+  // The fraction of S that graph vertex i sees.
+  double visibility(int i) const {
+    double visible = 0.0, unoccluded = 0.0;
+    for (const GraphLink& l : g_.links(i)) {
+      visible += l.coefficients.visible();
+      unoccluded += l.coefficients.unoccluded;
+    }
+    return unoccluded > 0 ? visible / unoccluded : 0.0;
+  }
+
+  // A shooter smaller than a receiver leaf can light a spot inside it that
+  // none of its vertices sees (a small light close to R, between
+  // vertices): S's contribution is then zero at all of them, and so is
+  // every difference the edge tests look at. What S sends into the leaf,
+  // taken as from a point source at S's centre, must then agree with the
+  // interpolant's power to kPowerTolerance of the emitted power. (A curved S
+  // has no one normal to shoot along: left to the edge tests.)
+  bool misses_small_shooter(NodeId leaf) const {
+    const double area = model_.area(r_, leaf);
+    if (!model_.scene().surfaces[s_].planar || !(area > shooter_area_) || !(shooter_power_ > 0)) return false;
+    const Vec3& shooter_normal = model_.scene().surfaces[s_].normal;
+    const double sent =
+        shooter_power_ * point_triangle_form_factor(shooter_centre_, shooter_normal, model_.triangle(r_, leaf));
+    double interpolated = 0.0;
+    for (VertexId v : h_.corners(leaf)) interpolated += area / 3.0 * own(g_.index_of(v));
+    return M_PI * std::abs(sent - interpolated) >= kPowerTolerance * solver_.total_emitted_power_;
+  }
+
+  // A vertex another graph has made is a vertex of the exported mesh, and
+  // this graph's share there is interpolated: the contribution over the
+  // exact unoccluded form factor, taken as linear between the edge's ends
+  // (push). Next to an occluder it is not: along an 8 cm table apron below
+  // the top's overhang, or across a window pane beside its reveals, the
+  // part of the room in view grows fast, then levels off, and the
+  // interpolant fell 5-12 % short of it. Where the ends of an edge
+  // disagree that much and the leaf matters to the image, the split costs
+  // no new receiver nodes and makes those vertices exact here as well.
+  bool interpolation_doubtful(NodeId leaf) const {
+    if (h_.is_leaf(leaf) || !(solver_.node_importance(r_, leaf) > 0.0)) return false;
+    const auto& c = h_.corners(leaf);
+    for (int k = 0; k < 3; ++k) {
+      const double a = sent_per_form_factor(c[k]), b = sent_per_form_factor(c[(k + 1) % 3]);
+      if (std::abs(a - b) > kDoubtfulInterpolation * std::max(a, b)) return true;
+    }
+    return false;
+  }
+
+  // docs/accuracy.md, "Facet edges": on a curved R the faces through a
+  // node on a facet edge see S differently (the light can be above one
+  // facet's plane and below the next one's), so the radiance S gives
+  // jumps there, while the node holds the mean of the one-sided limits.
+  // Every leaf touching the node then carries a ramp off by up to half the
+  // jump, and it is linear, so no second difference sees it. No split
+  // makes that error smaller at the node, only the ramp narrower, so it is
+  // weighed by the leaf's pixels, and in the terms the image is judged in:
+  // the half jump relative to the node's radiance (floored, as the
+  // relative norm is, at a hundredth of the adaptation luminance). On the
+  // display, a few per cent on a dim facet fell under ε_pixel.
+  bool facet_jump_shows(NodeId leaf) {
+    const double pixels = solver_.node_importance(r_, leaf);
+    const double eps_pixel = solver_.options_.eps_pixel;
+    if (facet_spread_ == nullptr || pixels < eps_pixel) return false;
+    for (VertexId v : h_.corners(leaf)) {
+      const int i = g_.index_of(v);
+      if (i < 0) continue;
+      const double b = own(i);
+      if (!(b > 0.0)) continue;
+      float& spread = (*facet_spread_)[v];
+      if (std::isnan(spread)) spread = static_cast<float>(solver_.facet_spread(r_, v, s_));
+      const double half_jump = 0.5 * b * spread;
+      const double total = luminance(st_.radiance[v]);
+      const double error = std::min(1.0, half_jump / std::max(total, kRelativeErrorFloor * solver_.adaptation_));
+      if (ReceiverOracle::refines(error, pixels, eps_pixel)) return true;
+    }
+    return false;
+  }
+
+  // Whether the edge between e's two triangles asks for both to be split.
+  bool edge_refines(NodeId leaf, const OracleEdge& e) const {
+    const NodeId across = e.right;
+    std::array<int, 4> idx{};
+    for (int i = 0; i < 4; ++i) idx[i] = g_.index_of(e.vertex[i]);
+    const std::array<double, 4> w =
+        edge_weights(h_.point(e.vertex[0]), h_.point(e.vertex[1]), h_.point(e.vertex[2]), h_.point(e.vertex[3]));
+    // S's reflected power that linear interpolation misplaces across the
+    // edge: half the second difference of its contribution, over both
+    // triangles. It must be small against the emitted power whatever the
+    // camera sees or the tone map shows (docs/design.md §5: the exported mesh is
+    // the product). A small light close to R puts a peak narrower than
+    // an element on one vertex, and the interpolant spreads that
+    // vertex's value over its hat function: up to 2000 times the light's
+    // power on a sub-pixel spot that the image-space test never splits
+    // (docs/design.md §5, small lights; tests/test_small_lights.cpp).
+    // Beside a concave edge the interpolant cuts under a radiance that
+    // bends down steeply into the corner: a loss on every element
+    // there, too small for either test alone to see on a surface the
+    // camera does not, until the tolerance is low enough to bound the
+    // sum (docs/accuracy.md, "Concave junctions").
+    double second_difference = 0.0;
+    for (int i = 0; i < 4; ++i) second_difference += w[i] * own(idx[i]);
+    const double misplaced = 0.5 * std::abs(second_difference) * (model_.area(r_, leaf) + model_.area(r_, across));
+    const bool by_power = M_PI * misplaced >= kPowerTolerance * solver_.total_emitted_power_;
+    // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
+    const double pixels = solver_.node_importance(r_, leaf) + solver_.node_importance(r_, across);
+    const double eps_pixel = solver_.options_.eps_pixel;
+    if (!by_power && pixels < eps_pixel) return false;
+    EdgeValues edge;
+    edge.weights = w;
+    for (int i = 0; i < 4; ++i) {
+      edge.own[i] = own(idx[i]);
+      edge.total[i] = luminance(st_.radiance[g_.vertex(idx[i])]);
+    }
+    edge.visibility_1 = visibility(idx[0]);
+    edge.visibility_2 = visibility(idx[1]);
+    return by_power || ReceiverOracle::refines(oracle_.display_error(edge), pixels, eps_pixel);
+  }
+
+ private:
+  void prepare_small_shooter() {
+    shooter_area_ = model_.surface_area(s_);
+    Rgb reflected_exitance = solver_.surfaces_[s_].clusters.radiance[0];
+    for (int k = 0; k < 3; ++k) reflected_exitance[k] *= rho_[k];
+    shooter_power_ = shooter_area_ * luminance(reflected_exitance);
+    if (!(shooter_area_ > 0)) return;
+    for (std::size_t f = 0; f < model_.hierarchy(s_).num_roots(); ++f) {
+      shooter_centre_ += model_.area(s_, static_cast<NodeId>(f)) * model_.centroid(s_, static_cast<NodeId>(f));
+    }
+    shooter_centre_ /= shooter_area_;
+  }
+
+  void prepare_facet_spread() {
+    if (model_.scene().surfaces[r_].planar) return;
+    std::vector<std::vector<float>>& cache = solver_.facet_spread_at_;
+    if (cache.size() < solver_.graphs_.size()) cache.resize(solver_.graphs_.size());
+    facet_spread_ = &cache[graph_];
+    if (facet_spread_->size() < st_.radiance.size()) {
+      facet_spread_->resize(st_.radiance.size(), std::numeric_limits<float>::quiet_NaN());
+    }
+  }
+
+  double sent_per_form_factor(VertexId v) const {
+    const int i = g_.index_of(v);
+    if (i < 0 || unoccluded_ == nullptr || static_cast<std::size_t>(v) >= unoccluded_->size()) return 0.0;
+    const double ff = (*unoccluded_)[v];
+    return ff > 0.0 ? luminance(g_.gathered(i)) / ff : 0.0;
+  }
+
+  LinearSolver& solver_;
+  const SceneModel& model_;
+  int graph_;
+  const InteractionGraph& g_;
+  int r_, s_;
+  const SurfaceHierarchy& h_;
+  const SurfaceState& st_;
+  const Rgb& rho_;
+  const ReceiverOracle oracle_;
+  double shooter_area_ = 0.0;
+  double shooter_power_ = 0.0;
+  Vec3 shooter_centre_{0, 0, 0};
+  const std::vector<float>* unoccluded_ = nullptr;
+  std::vector<float>* facet_spread_ = nullptr;  // curved receivers only
+};
+
+std::vector<NodeId> LinearSolver::receiver_leaves_to_split(int graph, const ToneMap& tone) {
+  ReceiverTests tests(*this, graph, tone);
+  const InteractionGraph& g = graphs_[graph];
+  const int r = g.receiver_surface(), s = g.shooter_surface();
+  const SurfaceHierarchy& h = model_.hierarchy(r);
+  std::vector<NodeId> to_split;
+  std::vector<OracleEdge> edges;
+  for (NodeId leaf : g.leaves()) {
+    if (tests.misses_small_shooter(leaf) && splittable(r, leaf, s)) to_split.push_back(leaf);
+    if ((tests.interpolation_doubtful(leaf) || tests.facet_jump_shows(leaf)) && splittable(r, leaf, s)) {
+      to_split.push_back(leaf);
+      continue;
+    }
+    edges.clear();
+    oracle_edges(g, h, leaf, edges);
+    for (const OracleEdge& e : edges) {
+      if (!tests.edge_refines(leaf, e) || !splittable(r, leaf, s) || !splittable(r, e.right, s)) continue;
+      to_split.push_back(leaf);
+      to_split.push_back(e.right);
+    }
+  }
+  return to_split;
+}
+
+bool LinearSolver::split_receiver_leaves(int graph, const std::vector<NodeId>& to_split,
+                                         std::vector<PendingLink>& pending) {
+  InteractionGraph& g = graphs_[graph];
+  const int r = g.receiver_surface();
+  SurfaceHierarchy& h = model_.hierarchy(r);
+  bool changed = false;
+  std::vector<InteractionGraph::NewVertex> created;
+  for (NodeId n : to_split) {
+    // A split seeds its new vertices (at most 3 unless the restriction
+    // splits neighbours too) with the links of a corner.
+    std::size_t seeded = 0;
+    for (VertexId v : h.corners(n)) {
+      if (const int i = g.index_of(v); i >= 0) seeded = std::max(seeded, g.links(i).size());
+    }
+    if (budget_.refuses(links_now_, 3 * seeded, stats_)) break;
+    const std::size_t before = created.size();
+    if (g.split(n, h, created)) {
+      ++stats_.receiver_splits;
+      changed = true;
+      sync_vertices(r);
+      seed_vertices(graph, {created.begin() + static_cast<std::ptrdiff_t>(before), created.end()}, pending);
+    }
+  }
+  return changed;
+}
+
+bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone) {
+  bool changed = false;
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const int graph = static_cast<int>(gi);
+    changed |= split_receiver_leaves(graph, receiver_leaves_to_split(graph, tone), pending);
+  }
+  return changed;
+}
+
+}  // namespace lhr

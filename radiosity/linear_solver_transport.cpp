@@ -1,0 +1,203 @@
+#include "radiosity/linear_solver.hpp"
+
+// LinearSolver's transport (paper §3): the coefficients of a link at a
+// receiver vertex, the points a vertex is collocated at, and the unoccluded
+// form factors push() interpolates by.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+
+#include "radiosity/form_factor.hpp"
+#include "radiosity/interruptible.hpp"
+#include "radiosity/sampling.hpp"
+
+namespace lhr {
+
+std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, VertexId v) const {
+  // docs/design.md §4 "Linear basis, point collocation", curved surfaces: the
+  // geometry is the faceted initial mesh, so a node on an initial vertex or
+  // edge has no single normal. Its hat function spans every initial face
+  // whose closure holds it, and each face sees the scene from its own plane;
+  // the node's value is the mean of the one-sided limits taken from inside
+  // those faces, weighted by how much of the node's neighbourhood each face
+  // is (its angle at an initial vertex; equal halves on an initial edge). A
+  // mean of face normals instead would make a closed surface's row sums
+  // fall short of 1 at every vertex (the faces through x are seen edge-on).
+  const SurfaceState& st = surfaces_[r];
+  const SurfaceHierarchy& h = model_.hierarchy(r);
+  const TriMesh& mesh = h.mesh();
+  const Vec3 x = h.point(v);
+  std::array<VertexId, 3> ancestors{kNoVertex, kNoVertex, kNoVertex};
+  const int found = initial_ancestors(st.parents, v, ancestors);
+  std::vector<ReceiverSide> sides;
+  for (const auto fh : mesh.vf_range(OpenMesh::VertexHandle(ancestors[0]))) {
+    const auto& k = h.corners(h.root(fh.idx()));
+    const bool holds = std::all_of(ancestors.begin(), ancestors.begin() + found, [&](VertexId a) {
+      return std::find(k.begin(), k.end(), a) != k.end();
+    });
+    if (!holds) continue;
+    const NodeId root = h.root(fh.idx());
+    ReceiverSide side;
+    side.normal = model_.normal(r, root);
+    const Vec3 inward = model_.centroid(r, root) - x;
+    side.approach = inward.norm() > 0 ? inward / inward.norm() : Vec3(0, 0, 0);
+    side.weight = 1.0;
+    if (found == 1) {
+      const int c = static_cast<int>(std::find(k.begin(), k.end(), ancestors[0]) - k.begin());
+      const Vec3 a = h.point(k[(c + 1) % 3]) - x, b = h.point(k[(c + 2) % 3]) - x;
+      side.weight = std::atan2(OpenMesh::cross(a, b).norm(), OpenMesh::dot(a, b));
+    }
+    if (side.normal.sqrnorm() > 0 && side.weight > 0) sides.push_back(side);
+  }
+  return sides;
+}
+
+std::vector<LinearSolver::CollocationPoint> LinearSolver::collocation_points(int r, VertexId v) const {
+  const Surface& surface = model_.scene().surfaces[r];
+  ReceiverPoint point;
+  point.x = model_.hierarchy(r).point(v);
+  if (surface.planar) {
+    point.normal = surface.normal;
+    point.approach = surfaces_[r].approach[v];
+    return {{point, 1.0}};
+  }
+  const std::vector<ReceiverSide> sides = receiver_sides(r, v);
+  double total_weight = 0.0;
+  for (const ReceiverSide& side : sides) total_weight += side.weight;
+  std::vector<CollocationPoint> out;
+  out.reserve(sides.size());
+  for (const ReceiverSide& side : sides) {
+    point.normal = side.normal;
+    point.approach = side.approach;
+    out.push_back({point, side.weight / total_weight});
+  }
+  return out;
+}
+
+TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
+                                                 std::uint64_t& rays) const {
+  const int r = g.receiver_surface(), s = g.shooter_surface();
+  const VertexId v = g.vertex(vertex);
+  TransportSampling sampling;
+  sampling.k = options_.visibility_samples;
+  sampling.key = sample_key((static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
+                            static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
+  const std::vector<CollocationPoint> points = collocation_points(r, v);
+  if (points.size() == 1) return transport_to(points.front().point, s, shooter, sampling, rays);
+  std::array<double, 3> f{0.0, 0.0, 0.0};
+  double unoccluded = 0.0;
+  for (const CollocationPoint& p : points) {
+    const TransportCoefficients c = transport_to(p.point, s, shooter, sampling, rays);
+    for (int l = 0; l < 3; ++l) f[l] += p.weight * c.f[l];
+    unoccluded += p.weight * c.unoccluded;
+  }
+  TransportCoefficients out;
+  for (int l = 0; l < 3; ++l) out.f[l] = static_cast<float>(f[l]);
+  out.unoccluded = static_cast<float>(unoccluded);
+  return out;
+}
+
+double LinearSolver::unoccluded_form_factor(const ReceiverPoint& point, int s) const {
+  const Surface& shooter = model_.scene().surfaces[s];
+  const SurfaceHierarchy& h = model_.hierarchy(s);
+  const Vec3* approach = point.approach.sqrnorm() > 0 ? &point.approach : nullptr;
+  double ff = 0.0;
+  if (shooter.planar) {
+    std::vector<Vec3> polygon;
+    for (const auto& indices : shooter.polygons) {
+      polygon.clear();
+      for (int i : indices) polygon.push_back(shooter.points[i]);
+      ff += point_polygon_form_factor(point.x, point.normal, polygon, approach);
+    }
+  } else {
+    for (std::size_t root = 0; root < h.num_roots(); ++root) {
+      ff += point_triangle_form_factor(point.x, point.normal, model_.triangle(s, static_cast<NodeId>(root)), approach);
+    }
+  }
+  return ff;
+}
+
+double LinearSolver::unoccluded_form_factor(int r, VertexId v, int s) const {
+  double total = 0.0;
+  for (const CollocationPoint& p : collocation_points(r, v)) total += p.weight * unoccluded_form_factor(p.point, s);
+  return total;
+}
+
+double LinearSolver::facet_spread(int r, VertexId v, int s) const {
+  const std::vector<CollocationPoint> points = collocation_points(r, v);
+  if (points.size() < 2) return 0.0;
+  double mean = 0.0, lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (const CollocationPoint& p : points) {
+    const double ff = unoccluded_form_factor(p.point, s);
+    mean += p.weight * ff;
+    lo = std::min(lo, ff);
+    hi = std::max(hi, ff);
+  }
+  return mean > 0.0 ? (hi - lo) / mean : 0.0;
+}
+
+TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int s, NodeId shooter,
+                                                 const TransportSampling& sampling, std::uint64_t& rays) const {
+  if (is_cluster_element(shooter)) {
+    const SurfaceState& st = surfaces_[s];
+    const RootCluster& c = st.clusters.tree[cluster_index(shooter)];
+    std::vector<std::array<Vec3, 3>> triangles;
+    triangles.reserve(c.roots.size());
+    for (NodeId root : c.roots) triangles.push_back(model_.triangle(s, root));
+    // docs/accuracy.md, "A bright part that sees more": the link carries the
+    // cluster's mean as this receiver weights its roots, from the radiance
+    // the cluster holds now.
+    const bool open = c.exposed_area > 0;
+    std::vector<double> value, openness;
+    value.reserve(c.roots.size());
+    openness.reserve(c.roots.size());
+    for (NodeId root : c.roots) {
+      const bool pulled = static_cast<std::size_t>(root) < st.root_luminance.size();
+      value.push_back(pulled ? st.root_luminance[root] : 0.0);
+      openness.push_back(open ? st.clusters.root_exposure[root] : 1.0);
+    }
+    ShooterShape shape{value, openness, luminance(st.clusters.radiance[cluster_index(shooter)])};
+    const ShooterShape* shape_in = st.root_luminance.empty() ? nullptr : &shape;
+    const Surface& shooter_surface = model_.scene().surfaces[s];
+    if (shooter == kWholeSurface && shooter_surface.planar) {
+      std::vector<std::vector<Vec3>> polygons;
+      for (const auto& polygon : shooter_surface.polygons) {
+        polygons.emplace_back();
+        for (int i : polygon) polygons.back().push_back(shooter_surface.points[i]);
+      }
+      return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays, shape_in);
+    }
+    if (shooter_surface.planar && !st.outlines.start.empty()) {
+      // docs/design.md, "Cluster outlines": the exact form factor from the
+      // outline, the shadow rays drawn as for a whole surface.
+      const TriMesh& mesh = model_.hierarchy(s).mesh();
+      const std::span<const Vec3> points(mesh.points(), mesh.n_vertices());
+      const std::optional<double> ff =
+          outline_form_factor(point.x, point.normal, c.normal, points, st.outlines.of(cluster_index(shooter)));
+      if (ff) return planar_shooter_transport(point, *ff, triangles, model_.rays(), sampling, rays, shape_in, true);
+    }
+    std::vector<std::array<std::int32_t, 3>> edges;
+    edges.reserve(c.roots.size());
+    for (NodeId root : c.roots) edges.push_back(st.root_edges[root]);
+    return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in, edges);
+  }
+  return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
+}
+
+void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
+  PhaseTimer timer(stats_.seconds_coefficients);
+  std::atomic<std::uint64_t> rays{0};
+  interruptible_parallel_for(pending.size(), options_.checkpoint, [&](std::size_t i) {
+    const PendingLink& p = pending[i];
+    InteractionGraph& g = graphs_[p.graph];
+    GraphLink& link = g.links(p.vertex)[p.slot];
+    std::uint64_t local = 0;
+    link.coefficients = coefficients(g, p.vertex, link.shooter, local);
+    rays += local;
+  });
+  stats_.shadow_rays += rays.load();
+}
+
+}  // namespace lhr

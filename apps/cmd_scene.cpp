@@ -6,6 +6,7 @@
 #include "apps/options.hpp"
 #include "io/output_dir.hpp"
 #include "io/scene_generator.hpp"
+#include "io/scene_writer.hpp"
 
 namespace lhr::app {
 

@@ -72,6 +72,7 @@ inline void add_scene_meshing_options(po::options_description& options) {
 inline LoadOptions load_options_from(const po::variables_map& vm) {
   LoadOptions options;
   if (vm.count("crease-angle")) options.crease_angle_deg = vm["crease-angle"].as<double>();
+  options.checkpoint = throw_if_interrupted;
   return options;
 }
 

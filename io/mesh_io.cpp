@@ -10,8 +10,6 @@
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/ArrayKernel.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
 #include <cctype>
@@ -25,8 +23,8 @@
 
 #include "io/atomic_file.hpp"
 #include "io/input_error.hpp"
-#include "io/openmesh_import.hpp"
 #include "io/ply_off_reader.hpp"
+#include "io/quiet_openmesh.hpp"
 
 namespace lhr {
 
@@ -45,26 +43,6 @@ std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
-}
-
-// One radiance channel as the PLY stores it (float as lhr writes, double
-// accepted from other tools); false when absent.
-bool read_channel(const OpenMesh::ArrayKernel& kernel, const char* name, std::vector<Rgb>& out, int channel) {
-  OpenMesh::VPropHandleT<float> as_float;
-  OpenMesh::VPropHandleT<double> as_double;
-  if (kernel.get_property_handle(as_float, name)) {
-    for (std::size_t v = 0; v < out.size(); ++v) {
-      out[v][channel] = kernel.property(as_float, OpenMesh::VertexHandle(static_cast<int>(v)));
-    }
-    return true;
-  }
-  if (kernel.get_property_handle(as_double, name)) {
-    for (std::size_t v = 0; v < out.size(); ++v) {
-      out[v][channel] = kernel.property(as_double, OpenMesh::VertexHandle(static_cast<int>(v)));
-    }
-    return true;
-  }
-  return false;
 }
 
 // docs/design.md §3 output: what the colour and radiance properties mean, in the
@@ -209,24 +187,13 @@ RawMesh read_raw_mesh(const std::filesystem::path& path) {
   if (size == 0) throw InputError(path, "file is empty");
   if (!std::ifstream(path, std::ios::binary)) throw InputError(path, "cannot open for reading");
 
-  // Every element takes at least one byte of the file.
-  PlainImporter importer(size);
-  read_ply_off(path, importer, FaceIndices::kAsStored);
-
+  StoredMesh stored = read_ply_off(path, FaceIndices::kAsStored);
   RawMesh mesh;
-  mesh.points = std::move(importer.points);
-  mesh.faces = std::move(importer.faces);
+  mesh.points = std::move(stored.points);
+  mesh.faces = std::move(stored.faces);
   if (mesh.faces.empty()) throw InputError(path, "contains no faces");
-
-  std::vector<Rgb> radiance(mesh.points.size(), Rgb(0.0));
-  bool all = true;
-  for (int c = 0; c < 3; ++c) all = read_channel(importer.properties(), kRadianceNames[c], radiance, c) && all;
-  if (all) mesh.radiance = std::move(radiance);
-  std::vector<Rgb> standard_error(mesh.points.size(), Rgb(0.0));
-  if (read_channel(importer.properties(), kStderrName, standard_error, 0)) {
-    mesh.radiance_stderr.reserve(standard_error.size());
-    for (const Rgb& e : standard_error) mesh.radiance_stderr.push_back(e[0]);
-  }
+  mesh.radiance = std::move(stored.radiance);
+  mesh.radiance_stderr = std::move(stored.radiance_stderr);
   return mesh;
 }
 

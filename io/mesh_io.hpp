@@ -1,7 +1,8 @@
 #pragma once
-// Mesh files through OpenMesh's readers and writers (docs/design.md §3 output).
-// The ExportMesh they write is mesh/export_mesh.hpp, so that renderers build
-// it without this file.
+// Mesh files: written through OpenMesh's writers, read by lhr's own checking
+// readers (io/ply_off_reader.hpp; docs/design.md §3 output). The ExportMesh
+// they write is mesh/export_mesh.hpp, so that renderers build it without
+// this file.
 
 #include <filesystem>
 
@@ -23,8 +24,8 @@ void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const
 // sits that far off its edge, and the in-memory default would miss it.
 constexpr double kStoredMeshTolerance = 1e-6;
 
-// Reads a PLY/OFF exactly as stored (no vertex merging, no face repair),
-// through OpenMesh's readers. Throws InputError.
+// Reads a PLY/OFF exactly as stored (no vertex merging, no face repair).
+// Throws InputError.
 RawMesh read_raw_mesh(const std::filesystem::path& path);
 
 }  // namespace lhr

@@ -3,7 +3,6 @@
 // furniture, ~386 initial surfaces) and "four rooms" (two lights each, a table
 // per room, ~296 surfaces).
 
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -19,9 +18,5 @@ struct GeneratedScene {
 std::vector<std::string> generated_scene_names();  // {"two-rooms", "four-rooms"}
 // Throws std::invalid_argument for an unknown name.
 GeneratedScene generate_scene(const std::string& name);
-
-// Writes DIR/NAME.obj, DIR/NAME.mtl and DIR/NAME.scene.json, each atomically.
-void write_scene_files(const GeneratedScene& scene, const std::filesystem::path& dir,
-                       const std::string& name);
 
 }  // namespace lhr

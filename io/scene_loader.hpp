@@ -4,6 +4,7 @@
 // file and line/element.
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@ namespace lhr {
 
 struct LoadOptions {
   std::optional<double> crease_angle_deg;  // overrides the scene file
+  // Called every few thousand lines while an OBJ is parsed: what it throws
+  // (an interrupt) ends the load.
+  std::function<void()> checkpoint;
 };
 
 struct LoadResult {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace lhr::text {
 
@@ -71,20 +72,23 @@ void require_text(const fs::path& path, std::string_view text) {
   }
 }
 
-std::vector<Line> tokenize(std::string_view text, bool strip_comments) {
-  std::vector<Line> lines;
-  int number = 0;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view raw = text.substr(pos, end - pos);
-    ++number;
-    if (strip_comments) {
+bool LineReader::next(Line& line) {
+  while (!done_) {
+    std::size_t end = text_.find('\n', pos_);
+    if (end == std::string_view::npos) end = text_.size();
+    std::string_view raw = text_.substr(pos_, end - pos_);
+    ++number_;
+    if (end == text_.size()) {
+      done_ = true;
+    } else {
+      pos_ = end + 1;
+    }
+    if (strip_comments_) {
       const std::size_t hash = raw.find('#');
       if (hash != std::string_view::npos) raw = raw.substr(0, hash);
     }
-    Line line{number, {}};
+    line.number = number_;
+    line.tokens.clear();
     std::size_t i = 0;
     while (i < raw.size()) {
       while (i < raw.size() && std::isspace(static_cast<unsigned char>(raw[i]))) ++i;
@@ -93,10 +97,16 @@ std::vector<Line> tokenize(std::string_view text, bool strip_comments) {
       if (j > i) line.tokens.push_back(raw.substr(i, j - i));
       i = j;
     }
-    if (!line.tokens.empty()) lines.push_back(std::move(line));
-    if (end == text.size()) break;
-    pos = end + 1;
+    if (!line.tokens.empty()) return true;
   }
+  return false;
+}
+
+std::vector<Line> tokenize(std::string_view text, bool strip_comments) {
+  std::vector<Line> lines;
+  LineReader reader(text, strip_comments);
+  Line line;
+  while (reader.next(line)) lines.push_back(std::move(line));  // next() clears what is left
   return lines;
 }
 

@@ -42,6 +42,22 @@ struct Line {
 // lines; '#' starts a comment when strip_comments is set.
 std::vector<Line> tokenize(std::string_view text, bool strip_comments);
 
+// The lines tokenize returns, one at a time: a large file is read without
+// holding every line's tokens at once, and its reader can stop between lines.
+class LineReader {
+ public:
+  LineReader(std::string_view text, bool strip_comments) : text_(text), strip_comments_(strip_comments) {}
+  // The next line with tokens, false after the last.
+  bool next(Line& line);
+
+ private:
+  std::string_view text_;
+  bool strip_comments_;
+  std::size_t pos_ = 0;
+  int number_ = 0;
+  bool done_ = false;
+};
+
 // The whole token as a number, or nothing.
 std::optional<double> parse_double(std::string_view token);
 std::optional<long long> parse_int(std::string_view token);

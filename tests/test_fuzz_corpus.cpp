@@ -55,8 +55,9 @@ TEST(FuzzCorpus, EveryInputLoadsOrFailsInOneLine) {
 }
 
 TEST(FuzzCorpus, FormerFindingsAreOneLineInputErrors) {
-  // Each once made OpenMesh's reader loop or allocate gigabytes, in the
-  // loader or in `lhr validate` (docs/robustness.md).
+  // Each once made OpenMesh's reader (which read PLY/OFF files before lhr's
+  // own readers) loop or allocate gigabytes, in the loader or in `lhr
+  // validate` (docs/robustness.md).
   const auto dir = test::fresh_dir("fuzz_regressions");
   int seen = 0;
   for (const std::string name : {"ply", "off"}) {
@@ -86,7 +87,7 @@ TEST(FuzzCorpus, FormerFindingsAreOneLineInputErrors) {
 
 TEST(FuzzCorpus, BinaryFilesReadAsWritten) {
   // The seeds were written by hand with these coordinates and faces; the
-  // binary walks before OpenMesh's readers must agree with their layout.
+  // binary readers must agree with their layout.
   const std::vector<Vec3> points = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}};
   const std::vector<std::vector<int>> faces = {{0, 1, 2}, {0, 2, 3}};
   for (const char* name : {"ply/quad_le.ply", "ply/quad_be.ply", "off/binary.off", "off/binary_colour.off"}) {

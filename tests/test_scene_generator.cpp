@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/scene_generator.hpp"
+#include "io/scene_writer.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/surfaces.hpp"
 #include "test_support.hpp"

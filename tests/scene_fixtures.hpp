@@ -1,12 +1,20 @@
 #pragma once
-// Small scenes built in code for solver tests.
+// Small scenes built in code for solver tests, and surfaces built in code
+// for the initial-meshing tests.
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
+#include <map>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "mesh/initial_mesh.hpp"
 #include "mesh/scene.hpp"
 #include "mesh/surfaces.hpp"
 #include "mesh/validate.hpp"
@@ -189,6 +197,140 @@ inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
   Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
   if (size > 0) camera.width = camera.height = size;
   return view_from(model, camera);
+}
+
+// ---------------------------------------------------------------------------
+// Initial meshing (test_planar_mesh, test_curved_mesh, test_initial_mesh):
+// input surfaces built in code, and what those tests measure of a mesh, each
+// computed here independently of the mesher.
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+inline double deg(double rad) { return rad * 180.0 / kPi; }
+
+inline Vec3 vector_area(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& polygons) {
+  Vec3 sum(0, 0, 0);
+  for (const auto& poly : polygons) {
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+      sum += 0.5 * OpenMesh::cross(points[poly[i]] - points[poly[0]], points[poly[i + 1]] - points[poly[0]]);
+    }
+  }
+  return sum;
+}
+
+// Area of the polygons' fan triangulations: the piecewise-linear shape a
+// slightly non-planar quad stands for.
+inline double fan_area(const Surface& s) {
+  double area = 0.0;
+  for (const auto& poly : s.polygons) {
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+      area += 0.5 * OpenMesh::cross(s.points[poly[i]] - s.points[poly[0]], s.points[poly[i + 1]] - s.points[poly[0]]).norm();
+    }
+  }
+  return area;
+}
+
+inline Surface make_surface(std::string name, std::vector<Vec3> points, std::vector<std::vector<int>> polygons,
+                            bool planar) {
+  Surface s;
+  s.name = std::move(name);
+  s.points = std::move(points);
+  s.polygons = std::move(polygons);
+  s.planar = planar;
+  const Vec3 a = vector_area(s.points, s.polygons);
+  s.normal = a.normalized();
+  s.area = fan_area(s);
+  return s;
+}
+
+// The unit square in z = 0, facing +z, as one quad.
+inline Surface unit_square() {
+  return make_surface("square", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2, 3}}, true);
+}
+
+// Meshing options with h = max_edge and the other options at their defaults.
+inline MeshingOptions with_h(double h) {
+  MeshingOptions o;
+  o.max_edge = h;
+  return o;
+}
+
+inline double mesh_area(const TriMesh& m) {
+  double a = 0.0;
+  for (const auto f : m.faces()) {
+    auto it = m.cfv_iter(f);
+    const Vec3 p0 = m.point(*it++), p1 = m.point(*it++), p2 = m.point(*it);
+    a += 0.5 * OpenMesh::cross(p1 - p0, p2 - p0).norm();
+  }
+  return a;
+}
+
+inline std::array<Vec3, 3> corners(const TriMesh& m, TriMesh::FaceHandle f) {
+  auto it = m.cfv_iter(f);
+  const Vec3 p0 = m.point(*it++), p1 = m.point(*it++), p2 = m.point(*it);
+  return {p0, p1, p2};
+}
+
+inline double max_edge_length(const TriMesh& m) {
+  double l = 0.0;
+  for (const auto e : m.edges()) l = std::max(l, m.calc_edge_length(e));
+  return l;
+}
+
+struct Segment {
+  Vec3 a, b;
+};
+
+inline double distance_to_segment(const Vec3& p, const Segment& s) {
+  const Vec3 d = s.b - s.a;
+  const double t = std::clamp(OpenMesh::dot(p - s.a, d) / d.sqrnorm(), 0.0, 1.0);
+  return (p - (s.a + t * d)).norm();
+}
+
+// How many polygons use each undirected edge (a pair of point indices).
+inline std::map<std::pair<int, int>, int> edge_uses(const Surface& s) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& poly : s.polygons) {
+    for (std::size_t i = 0; i < poly.size(); ++i) ++uses[std::minmax(poly[i], poly[(i + 1) % poly.size()])];
+  }
+  return uses;
+}
+
+// Undirected polygon edges used by exactly one polygon.
+inline std::vector<Segment> input_boundary(const Surface& s) {
+  std::vector<Segment> out;
+  for (const auto& [e, n] : edge_uses(s)) {
+    if (n == 1) out.push_back({s.points[e.first], s.points[e.second]});
+  }
+  return out;
+}
+
+inline std::set<int> input_boundary_vertices(const Surface& s) {
+  std::set<int> out;
+  for (const auto& [e, n] : edge_uses(s)) {
+    if (n == 1) {
+      out.insert(e.first);
+      out.insert(e.second);
+    }
+  }
+  return out;
+}
+
+inline double smallest_angle(const std::array<Vec3, 3>& c) {
+  double m = kPi;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 a = c[(k + 1) % 3] - c[k], b = c[(k + 2) % 3] - c[k];
+    m = std::min(m, std::atan2(OpenMesh::cross(a, b).norm(), OpenMesh::dot(a, b)));
+  }
+  return m;
+}
+
+inline void expect_no_duplicate_vertices(const TriMesh& m) {
+  std::set<std::array<double, 3>> seen;
+  for (const auto v : m.vertices()) {
+    const Vec3& p = m.point(v);
+    EXPECT_TRUE(seen.insert({p[0], p[1], p[2]}).second) << "duplicate vertex at " << p;
+  }
 }
 
 }  // namespace lhr::test

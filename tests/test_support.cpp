@@ -92,6 +92,12 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
   if (!f) throw std::runtime_error("cannot write " + path.string());
 }
 
+std::filesystem::path fresh_file(const std::string& dir_name, const std::string& file_name, const std::string& text) {
+  const auto path = fresh_dir(dir_name) / file_name;
+  write_text(path, text);
+  return path;
+}
+
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream f(path, std::ios::binary);
   std::stringstream ss;
@@ -104,6 +110,14 @@ int count_lines(const std::string& text) {
   for (char c : text) n += (c == '\n');
   if (!text.empty() && text.back() != '\n') ++n;
   return n;
+}
+
+std::vector<std::string> containing(const std::vector<std::string>& texts, const std::string& fragment) {
+  std::vector<std::string> out;
+  for (const std::string& t : texts) {
+    if (t.find(fragment) != std::string::npos) out.push_back(t);
+  }
+  return out;
 }
 
 void write_lit_floor_obj(const std::filesystem::path& dir) {

@@ -40,6 +40,8 @@ std::filesystem::path source_dir();
 // all of them go when the test process exits.
 std::filesystem::path fresh_dir(const std::string& name);
 void write_text(const std::filesystem::path& path, const std::string& text);
+// A file file_name holding text, in a fresh directory dir_name (fresh_dir); its path.
+std::filesystem::path fresh_file(const std::string& dir_name, const std::string& file_name, const std::string& text);
 // dir/tiny.obj and dir/tiny.mtl: a unit floor (Kd 0.7 0.6 0.5) in z = 0 under
 // a 0.6 x 0.6 light (Ke 3, Kd 0) at height 0.5, facing it.
 void write_lit_floor_obj(const std::filesystem::path& dir);
@@ -52,5 +54,7 @@ std::string read_text(const std::filesystem::path& path);
 std::vector<std::string> file_names(const std::filesystem::path& dir);
 // Number of lines of text (for one-line error messages).
 int count_lines(const std::string& text);
+// The texts that contain fragment, in order (a loader's warnings about one thing).
+std::vector<std::string> containing(const std::vector<std::string>& texts, const std::string& fragment);
 
 }  // namespace lhr::test

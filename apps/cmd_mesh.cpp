@@ -87,7 +87,8 @@ int run_mesh(const Args& args) {
   }
   const bool quiet = vm.count("quiet") > 0;
   const std::filesystem::path out_path = vm["out"].as<std::string>();
-  // Refuse an unusable output location before the work, not after.
+  // Refuse an unusable output name or location before the work, not after.
+  if (!is_mesh_output_format(out_path)) throw po::error("--out must name a .ply or .off file");
   check_output_file_location(out_path);
   install_interrupt_handlers();
   try {

@@ -90,6 +90,11 @@ void check_export(const std::filesystem::path& path, const ExportMesh& mesh) {
 
 }  // namespace
 
+bool is_mesh_output_format(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".ply" || ext == ".off";
+}
+
 void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh) {
   AtomicOutputs outputs;
   write_mesh(outputs, path, mesh);

@@ -18,6 +18,9 @@ namespace lhr {
 void write_mesh(const std::filesystem::path& path, const ExportMesh& mesh);
 // The same, staged in a set of outputs published together.
 void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const ExportMesh& mesh);
+// Whether write_mesh knows path's format (.ply or .off, in any case), so a
+// command can refuse its output name before the work.
+bool is_mesh_output_format(const std::filesystem::path& path);
 
 // The check_conforming_mesh tolerance for a mesh read from a file: PLY/OFF
 // store float coordinates (relative rounding ~6e-8), so a T-vertex read back

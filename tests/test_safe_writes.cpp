@@ -211,6 +211,29 @@ TEST(SafeWrites, EveryWritingCommandRefusesAnUnwritableOutBeforeItsWork) {
   }
 }
 
+TEST(SafeWrites, AnOutputNameOfUnknownFormatIsRefusedBeforeTheInputIsRead) {
+  // The scene does not exist: an error naming it would mean the command read
+  // (and, for a real scene, meshed) its input before looking at --out.
+  const auto dir = test::fresh_dir("safe_writes_formats");
+  const std::string missing = (dir / "missing.obj").string();
+  const std::vector<std::vector<std::string>> commands = {
+      {"mesh", missing, "--out", (dir / "mesh").string()},
+      {"mesh", missing, "--out", (dir / "mesh.obj").string()},
+      {"reference", missing, "--spp", "2", "--out", (dir / "ref.png").string()},
+  };
+  for (const auto& args : commands) {
+    SCOPED_TRACE(args[0] + " " + args.back());
+    const test::CommandResult r = test::run_lhr(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--out must name a"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("missing.obj"), std::string::npos) << r.err;
+  }
+  // A name in capitals is still the format it names.
+  const test::CommandResult upper = test::run_lhr({"mesh", missing, "--out", (dir / "MESH.PLY").string()});
+  EXPECT_EQ(upper.exit_code, 1) << upper.err;
+  EXPECT_NE(upper.err.find("missing.obj"), std::string::npos) << upper.err;
+}
+
 TEST(SafeWrites, ASecondHolderOfAnOutputDirectoryIsRefused) {
   const auto dir = test::fresh_dir("safe_writes_lock");
   test::write_lit_floor_obj(dir);

@@ -337,15 +337,16 @@ void read_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHea
   const int header_lines = static_cast<int>(std::count(bytes.begin(), bytes.begin() + ply.end, '\n')) + 1;
   const std::string_view text = std::string_view(bytes).substr(std::min(ply.body, bytes.size()));
   text::require_text(path, text);
-  const std::vector<Line> lines = text::tokenize(text, false);
-  std::size_t next = 0;
+  // One line at a time: the tokens of a whole large file would double its
+  // memory beside the mesh being built.
+  text::LineReader lines(text, false);
+  Line line;
   for (const PlyElement& e : ply.elements) {
     for (long long i = 0; i < e.count; ++i) {
-      if (next >= lines.size()) {
+      if (!lines.next(line)) {
         throw InputError(path, "file ends after " + std::to_string(i) + " of " + std::to_string(e.count) + " " +
                                    e.name + " elements (truncated file?)");
       }
-      const Line& line = lines[next++];
       const int number = line.number + header_lines;
       // Built only for a message: most elements never need it.
       const auto where = [&] { return e.name + " " + std::to_string(i) + ": "; };

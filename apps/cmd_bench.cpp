@@ -219,7 +219,7 @@ int run_bench(const Args& args) {
   const Scene& scene = loaded.scene;
   const Camera camera = scene.camera.value_or(framing_camera(scene));
   meshing_options_from(vm, scene);  // refuses bad meshing flags now, not in every run
-  settings.tone = tone_choice_from(vm, &scene.settings.tone_map);
+  settings.tone = tone_settings_from(vm, &scene.settings.tone_map);
   // Runs see the scene by an absolute path: a resumed sweep matches its
   // recorded arguments from any working directory.
   settings.scene = std::filesystem::absolute(scene_path).lexically_normal();

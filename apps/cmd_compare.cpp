@@ -111,7 +111,7 @@ int run_compare(const Args& args) {
 
   if (vm.count("surfaces") && !vm.count("scene")) throw po::error("--surfaces needs --scene");
   std::vector<std::uint8_t> mask;
-  ToneMapChoice tone;
+  ToneMapSettings tone;
   std::string background;
   std::vector<std::string> surface_names;
   std::vector<SurfaceComparison> surfaces;
@@ -124,7 +124,7 @@ int run_compare(const Args& args) {
                                        std::to_string(camera.height) + " pixels but the images are " +
                                        std::to_string(reference.width) + "x" + std::to_string(reference.height));
     }
-    tone = tone_choice_from(vm, &scene.settings.tone_map);
+    tone = tone_settings_from(vm, &scene.settings.tone_map);
     const PathTracer tracer(scene);
     mask = tracer.coverage(camera);
     if (vm.count("surfaces")) {
@@ -134,7 +134,7 @@ int run_compare(const Args& args) {
     }
     background = "camera rays that miss the scene";
   } else {
-    tone = tone_choice_from(vm, nullptr);
+    tone = tone_settings_from(vm, nullptr);
     mask = nonzero_mask(reference);
     background = "reference pixels that are exactly 0";
   }

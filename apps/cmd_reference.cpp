@@ -116,7 +116,7 @@ int run_reference(const Args& args) {
     for (const std::string& w : loaded.warnings) std::cerr << "lhr reference: warning: " << w << "\n";
   }
   const Scene& scene = loaded.scene;
-  const ToneMapChoice tone = tone_choice_from(vm, &scene.settings.tone_map);
+  const ToneMapSettings tone = tone_settings_from(vm, &scene.settings.tone_map);
   const Camera camera = scene.camera.value_or(framing_camera(scene));
   // Refuse unusable output locations before the work, not after.
   for (const std::filesystem::path& path : {out, png.value_or(out)}) {

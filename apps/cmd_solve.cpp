@@ -20,7 +20,7 @@
 #include "io/output_dir.hpp"
 #include "io/scene_loader.hpp"
 #include "radiosity/memory_budget.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 
 namespace lhr::app {
 
@@ -183,7 +183,7 @@ int run_solve(const Args& args) {
 
   // The tone map shapes the linear method's receiver oracle (paper §4.1) as
   // well as the images and vertex colours.
-  settings.tone = tone_choice_from(vm, &scene.settings.tone_map);
+  settings.tone = tone_settings_from(vm, &scene.settings.tone_map);
 
   const auto report = [&](int iteration, double change) {
     throw_if_interrupted();
@@ -194,7 +194,7 @@ int run_solve(const Args& args) {
     }
   };
   settings.linear.checkpoint = settings.classical.checkpoint = throw_if_interrupted;
-  SceneSolution solution;
+  Solution solution;
   try {
     solution = solve_scene(scene, settings, report);
   } catch (const Interrupted& e) {

@@ -14,7 +14,7 @@
 #include "apps/interrupt.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/initial_mesh.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 
 namespace lhr::app {
 

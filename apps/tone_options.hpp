@@ -1,6 +1,6 @@
 #pragma once
 // Tone-map flags (reference, compare; `lhr solve` declares its own with its
-// own help) and the choice they make. Precedence: a flag given on
+// own help) and the settings they make. Precedence: a flag given on
 // the command line, else the scene file's "tone_map" block, else the flag's
 // default (docs/design.md §3, §4 "Tone map M").
 
@@ -30,11 +30,12 @@ inline void add_tone_map_options(po::options_description& options) {
       ("gamma", double_value(2.2), "display gamma");
 }
 
-// file_tone: the scene file's block, or nullptr without a scene. The flags'
-// defaults are ToneMapChoice's, so a flag left at its default keeps the file's value.
-inline ToneMapChoice tone_choice_from(const po::variables_map& vm, const ToneMapSettings* file_tone) {
+// file_tone: the scene's settings (the defaults with its file's block over
+// them), or nullptr without a scene. The flags' defaults are ToneMapSettings',
+// so a flag left at its default keeps the file's value.
+inline ToneMapSettings tone_settings_from(const po::variables_map& vm, const ToneMapSettings* file_tone) {
   try {
-    ToneMapChoice tone = file_tone ? tone_choice_from_scene(*file_tone, OptionStyle::kFlag) : ToneMapChoice{};
+    ToneMapSettings tone = file_tone ? *file_tone : ToneMapSettings{};
     const auto given = [&](const char* flag, double& field) {
       if (!vm[flag].defaulted()) field = vm[flag].as<double>();
     };
@@ -43,11 +44,11 @@ inline ToneMapChoice tone_choice_from(const po::variables_map& vm, const ToneMap
     }
     given("adaptation", tone.world_adaptation);
     given("units-to-cd", tone.units_to_cd_m2);
-    given("white", tone.linear_white);
+    given("white", tone.white);
     given("display-max", tone.display_max_cd_m2);
     given("max-contrast", tone.max_contrast);
     given("gamma", tone.gamma);
-    check_tone_choice(tone, OptionStyle::kFlag);
+    check_tone_settings(tone, OptionStyle::kFlag);
     return tone;
   } catch (const std::invalid_argument& e) {
     throw po::error(e.what());  // a usage error, like any bad flag

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -58,10 +59,10 @@ void parse_tone_map(const JsonReader& r, const Json& t, ToneMapSettings& tone) {
   for (const auto& [key, value] : t.items()) {
     const std::string name = "tone_map." + key;
     if (key == "kind") {
-      if (!value.is_string() || (value != "tumblin-rushmeier" && value != "linear")) {
-        r.fail("\"" + name + "\" must be \"tumblin-rushmeier\" or \"linear\"");
-      }
-      tone.kind = value.get<std::string>();
+      const std::optional<ToneMapKind> kind =
+          value.is_string() ? tone_map_kind_named(value.get<std::string>()) : std::nullopt;
+      if (!kind) r.fail("\"" + name + "\" must be \"tumblin-rushmeier\" or \"linear\"");
+      tone.kind = *kind;
       continue;
     }
     const double v = r.number(value, name);

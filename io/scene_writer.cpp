@@ -78,7 +78,7 @@ std::string scene_json_text(const Camera& c, const std::string& name) {
 
 }  // namespace
 
-void write_scene_files(const GeneratedScene& scene, const std::filesystem::path& dir, const std::string& name) {
+void write_scene_files(const PaperScene& scene, const std::filesystem::path& dir, const std::string& name) {
   if (name.empty() || name.find_first_of("/\\") != std::string::npos) {
     throw std::invalid_argument("scene name '" + name + "' must be a plain file name");
   }

@@ -5,14 +5,14 @@
 #include <filesystem>
 #include <string>
 
-#include "io/scene_generator.hpp"
+#include "io/paper_scenes.hpp"
 
 namespace lhr {
 
 // Writes DIR/NAME.obj, DIR/NAME.mtl and DIR/NAME.scene.json, published
 // together (io/atomic_file.hpp). Throws std::invalid_argument for a name
 // that is not a plain file name, std::runtime_error for a failed write.
-void write_scene_files(const GeneratedScene& scene, const std::filesystem::path& dir,
+void write_scene_files(const PaperScene& scene, const std::filesystem::path& dir,
                        const std::string& name);
 
 }  // namespace lhr

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/tone_map_settings.hpp"
 #include "mesh/types.hpp"
 
 namespace lhr {
@@ -61,22 +62,11 @@ struct Surface {
   std::vector<std::pair<int, int>> seam_edges;
 };
 
-// The tone-map block of a scene file (docs/design.md §4 "Tone map M").
-struct ToneMapSettings {
-  std::optional<std::string> kind;  // "tumblin-rushmeier" or "linear"
-  std::optional<double> world_adaptation;  // scene units; 0 = log-average the camera sees
-  std::optional<double> units_to_cd_m2;
-  std::optional<double> display_max_cd_m2;
-  std::optional<double> max_contrast;
-  std::optional<double> gamma;
-  std::optional<double> white;  // linear: luminance shown as white; 0 = brightest seen
-};
-
 // Settings a scene file may carry; command-line flags override them.
 struct SceneSettings {
   std::optional<double> max_edge;
   std::optional<double> crease_angle_deg;
-  ToneMapSettings tone_map;
+  ToneMapSettings tone_map;  // the defaults with the file's "tone_map" block over them
 };
 
 struct Scene {

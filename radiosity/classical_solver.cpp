@@ -31,7 +31,7 @@ constexpr int kMaxRefinePasses = 40;
 
 }  // namespace
 
-ClassicalSolver::ClassicalSolver(SceneModel& model, const ClassicalOptions& options)
+ClassicalSolver::ClassicalSolver(MeshedScene& model, const ClassicalOptions& options)
     : model_(model), options_(options), floor_(model, options.min_edge), budget_(options.max_links, options.max_bytes) {
   surfaces_.resize(model_.num_surfaces());
   for (int s = 0; s < model_.num_surfaces(); ++s) {
@@ -145,7 +145,7 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
   for (const TriangleSample& ts : stratified_triangle_samples(k, sample_key(key, 1))) {
     receiver_vis.push_back({at(receiver_triangle, ts), nx});
   }
-  const RayScene& scene = model_.rays();
+  const RayCaster& scene = model_.rays();
   std::vector<ShadowRay> segments;
   // Only sample pairs that face each other carry energy; a pair behind
   // either plane (the part of a floor triangle under a block, seen from the

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "radiosity/element_floor.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 #include "radiosity/solver_frame.hpp"
 
 namespace lhr {
@@ -63,7 +63,7 @@ struct ClassicalStats : SolverStats {
 
 class ClassicalSolver {
  public:
-  ClassicalSolver(SceneModel& model, const ClassicalOptions& options);
+  ClassicalSolver(MeshedScene& model, const ClassicalOptions& options);
 
   // Iterates refine / gather / push-pull until converged. progress(iteration,
   // change) is called after each iteration when given.
@@ -133,7 +133,7 @@ class ClassicalSolver {
   std::size_t count_links() const;
   void collect_memory_stats();
 
-  SceneModel& model_;
+  MeshedScene& model_;
   ClassicalOptions options_;
   std::vector<SurfaceState> surfaces_;
   double max_emitted_ = 0.0;

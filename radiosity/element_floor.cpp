@@ -27,7 +27,7 @@ double size_of(const Surface& surface) {
 
 }  // namespace
 
-ElementFloor::ElementFloor(const SceneModel& model, double min_edge) {
+ElementFloor::ElementFloor(const MeshedScene& model, double min_edge) {
   const double scene_floor = min_edge > 0 ? min_edge : model.max_edge() / 32.0;
   for (int s = 0; s < model.num_surfaces(); ++s) {
     double edge = scene_floor;

@@ -14,7 +14,7 @@
 
 #include <vector>
 
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 
 namespace lhr {
 
@@ -22,7 +22,7 @@ class ElementFloor {
  public:
   // min_edge > 0: the user's floor, the same for every interaction.
   // 0: h/32, or less toward small surfaces.
-  ElementFloor(const SceneModel& model, double min_edge);
+  ElementFloor(const MeshedScene& model, double min_edge);
 
   // Smallest area an element may be split to in an interaction with surface
   // `partner` (its shooter when it receives, its receiver when it shoots):

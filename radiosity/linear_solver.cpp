@@ -42,16 +42,16 @@ int LinearSolver::initial_ancestors(const std::vector<std::array<VertexId, 2>>& 
   return found;
 }
 
-LinearSolver::LinearSolver(SceneModel& model, LinearOptions options)
+LinearSolver::LinearSolver(MeshedScene& model, LinearOptions options)
     : model_(model),
       options_(std::move(options)),
       floor_(model, options_.min_edge),
       budget_(options_.max_links, options_.max_bytes) {
   if (!options_.tone_map) {
     options_.tone_map = [](double adaptation, double) {
-      TumblinRushmeierParams p;
-      p.world_adaptation = adaptation;
-      return std::make_unique<TumblinRushmeierToneMap>(p);
+      ToneMapSettings tone;
+      tone.world_adaptation = adaptation;
+      return std::make_unique<TumblinRushmeierToneMap>(tone);
     };
   }
   surfaces_.resize(model_.num_surfaces());
@@ -86,7 +86,7 @@ void LinearSolver::sync_vertices(int s) {
   // lies between an open element and a hidden one: it takes the limit from
   // the open side, the one a viewer sees (docs/accuracy.md, "Contact lines").
   const Surface& surface = model_.scene().surfaces[s];
-  const RayScene& rays = model_.rays();
+  const RayCaster& rays = model_.rays();
   const auto enclosed = [&](VertexId v, const Vec3& d) {
     const Vec3 origin = rays.lift(h.point(v) + 8.0 * rays.epsilon() * d, surface.normal);
     return model_.enclosed_fraction(origin, surface.normal);

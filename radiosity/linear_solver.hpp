@@ -23,7 +23,7 @@
 #include "radiosity/element_floor.hpp"
 #include "radiosity/interaction_graph.hpp"
 #include "radiosity/root_clusters.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 #include "radiosity/shooter_spread.hpp"
 #include "radiosity/solver_frame.hpp"
 #include "radiosity/tone_map.hpp"
@@ -118,7 +118,7 @@ struct LinearStats : SolverStats {
 
 class LinearSolver {
  public:
-  LinearSolver(SceneModel& model, LinearOptions options);
+  LinearSolver(MeshedScene& model, LinearOptions options);
 
   // Iterates link / gather / push / refine until converged. progress(iteration,
   // change) after each iteration when given.
@@ -226,7 +226,7 @@ class LinearSolver {
   std::size_t count_links() const;
   void collect_stats();
 
-  SceneModel& model_;
+  MeshedScene& model_;
   LinearOptions options_;
   std::vector<SurfaceState> surfaces_;
   std::vector<InteractionGraph> graphs_;

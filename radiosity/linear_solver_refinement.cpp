@@ -355,7 +355,7 @@ class LinearSolver::ReceiverTests {
   }
 
   LinearSolver& solver_;
-  const SceneModel& model_;
+  const MeshedScene& model_;
   int graph_;
   const InteractionGraph& g_;
   int r_, s_;

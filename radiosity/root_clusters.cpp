@@ -11,7 +11,7 @@
 
 namespace lhr {
 
-std::vector<RootCluster> build_root_clusters(const SceneModel& model, int s, const std::vector<double>& root_exposure,
+std::vector<RootCluster> build_root_clusters(const MeshedScene& model, int s, const std::vector<double>& root_exposure,
                                             std::size_t leaf_roots) {
   std::vector<RootCluster> clusters;
   RootCluster top;
@@ -53,10 +53,10 @@ std::vector<RootCluster> build_root_clusters(const SceneModel& model, int s, con
   return clusters;
 }
 
-std::vector<double> root_exposure(const SceneModel& model, int s) {
+std::vector<double> root_exposure(const MeshedScene& model, int s) {
   constexpr int kPoints = 4;      // k² points per root
   constexpr int kDirections = 4;  // rays tried per point
-  const RayScene& rays = model.rays();
+  const RayCaster& rays = model.rays();
   std::vector<double> exposure(model.hierarchy(s).num_roots(), 1.0);
   tbb::parallel_for(std::size_t{0}, exposure.size(), [&](std::size_t r) {
     const NodeId root = static_cast<NodeId>(r);

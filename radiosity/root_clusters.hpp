@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 
 namespace lhr {
 
@@ -26,7 +26,7 @@ struct RootCluster {
 // the longest extent: a balanced tree of spatially compact clusters, so a far
 // cluster is a fair stand-in for its triangles. Clusters of at most
 // `leaf_roots` roots open directly onto their roots.
-std::vector<RootCluster> build_root_clusters(const SceneModel& model, int surface,
+std::vector<RootCluster> build_root_clusters(const MeshedScene& model, int surface,
                                             const std::vector<double>& root_exposure, std::size_t leaf_roots = 4);
 
 // Per root of a surface: its edges, corner k to corner k+1, as
@@ -61,6 +61,6 @@ ClusterOutlines cluster_outlines(const SurfaceHierarchy& h, const std::vector<Ro
 // ends on the back of a surface (the floor under a block). A whole-surface
 // shooter stands for its open part only: averaging the closed, unlit part
 // into its value would lose energy.
-std::vector<double> root_exposure(const SceneModel& model, int surface);
+std::vector<double> root_exposure(const MeshedScene& model, int surface);
 
 }  // namespace lhr

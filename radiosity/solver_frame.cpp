@@ -85,7 +85,7 @@ bool may_exchange_light(const Surface& a, const Surface& b, double eps) {
   return some_point_in_front(a, b, eps) && some_point_in_front(b, a, eps);
 }
 
-SurfaceClusters::SurfaceClusters(const SceneModel& model, int surface)
+SurfaceClusters::SurfaceClusters(const MeshedScene& model, int surface)
     : root_exposure(lhr::root_exposure(model, surface)),
       tree(build_root_clusters(model, surface, root_exposure)),
       radiance(tree.size(), model.material(surface).emission) {}

@@ -15,7 +15,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "radiosity/root_clusters.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 
 namespace lhr {
 
@@ -125,7 +125,7 @@ struct SurfaceClusters {
 
   SurfaceClusters() = default;
   // Clusters of `surface` that start shooting with its emission.
-  SurfaceClusters(const SceneModel& model, int surface);
+  SurfaceClusters(const MeshedScene& model, int surface);
   std::size_t bytes() const;
 };
 

@@ -50,7 +50,7 @@ std::array<std::uint8_t, 3> ToneMap::display_bytes(const Rgb& radiance) const {
   return {to_byte(d[0]), to_byte(d[1]), to_byte(d[2])};
 }
 
-TumblinRushmeierToneMap::TumblinRushmeierToneMap(const TumblinRushmeierParams& p) : p_(p) {
+TumblinRushmeierToneMap::TumblinRushmeierToneMap(const ToneMapSettings& p) : settings_(p) {
   const bool finite = std::isfinite(p.world_adaptation) && std::isfinite(p.units_to_cd_m2) &&
                       std::isfinite(p.display_max_cd_m2) && std::isfinite(p.max_contrast) && std::isfinite(p.gamma);
   if (!finite || !(p.world_adaptation > 0) || !(p.units_to_cd_m2 > 0) || !(p.display_max_cd_m2 > 0) ||
@@ -76,8 +76,9 @@ double TumblinRushmeierToneMap::display_luminance_cd_m2(double world_luminance) 
 }
 
 double TumblinRushmeierToneMap::display(double world_luminance) const {
-  const double v = display_luminance_cd_m2(world_luminance) / p_.display_max_cd_m2 - 1.0 / p_.max_contrast;
-  return apply_gamma(v, p_.gamma);
+  const double v =
+      display_luminance_cd_m2(world_luminance) / settings_.display_max_cd_m2 - 1.0 / settings_.max_contrast;
+  return apply_gamma(v, settings_.gamma);
 }
 
 Rgb TumblinRushmeierToneMap::display_rgb(const Rgb& radiance) const {
@@ -92,17 +93,20 @@ Rgb TumblinRushmeierToneMap::display_rgb(const Rgb& radiance) const {
   if (!(largest > 0)) return Rgb(0, 0, 0);
   for (int k = 0; k < 3; ++k) unit[k] /= largest;
   const double y_unit = luminance(unit);
-  const double shown = display_luminance_cd_m2(largest * y_unit) / p_.display_max_cd_m2;
-  const double offset = 1.0 / p_.max_contrast;
+  const double shown = display_luminance_cd_m2(largest * y_unit) / settings_.display_max_cd_m2;
+  const double offset = 1.0 / settings_.max_contrast;
   Rgb out;
-  for (int k = 0; k < 3; ++k) out[k] = unit[k] > 0 ? apply_gamma(unit[k] / y_unit * shown - offset, p_.gamma) : 0.0;
+  for (int k = 0; k < 3; ++k) {
+    out[k] = unit[k] > 0 ? apply_gamma(unit[k] / y_unit * shown - offset, settings_.gamma) : 0.0;
+  }
   return out;
 }
 
 std::string TumblinRushmeierToneMap::describe() const {
   std::ostringstream s;
-  s << "tumblin-rushmeier (world adaptation " << p_.world_adaptation << ", display max " << p_.display_max_cd_m2
-    << " cd/m2, contrast " << p_.max_contrast << ", gamma " << p_.gamma << ")";
+  s << "tumblin-rushmeier (world adaptation " << settings_.world_adaptation << ", display max "
+    << settings_.display_max_cd_m2 << " cd/m2, contrast " << settings_.max_contrast << ", gamma " << settings_.gamma
+    << ")";
   return s.str();
 }
 
@@ -124,6 +128,17 @@ std::string LinearToneMap::describe() const {
   std::ostringstream s;
   s << "linear (white " << white_ << ", gamma " << gamma_ << ")";
   return s.str();
+}
+
+std::unique_ptr<ToneMap> make_tone_map(const ToneMapSettings& settings, double log_average, double brightest) {
+  if (settings.kind == ToneMapKind::kLinear) {
+    const double white = settings.white > 0 ? settings.white : brightest;
+    return std::make_unique<LinearToneMap>(white > 0 ? white : 1.0, settings.gamma);
+  }
+  ToneMapSettings resolved = settings;
+  if (!(resolved.world_adaptation > 0)) resolved.world_adaptation = log_average;
+  if (!(resolved.world_adaptation > 0)) resolved.world_adaptation = 1.0;  // a black view: any adaptation shows black
+  return std::make_unique<TumblinRushmeierToneMap>(resolved);
 }
 
 }  // namespace lhr

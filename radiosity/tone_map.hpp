@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "mesh/tone_map_settings.hpp"
 #include "mesh/types.hpp"
 
 namespace lhr {
@@ -26,21 +27,15 @@ class ToneMap {
   std::array<std::uint8_t, 3> display_bytes(const Rgb& radiance) const;
 };
 
-struct TumblinRushmeierParams {
-  double world_adaptation = 1.0;  // L_wa in scene units (default: log-average the camera sees)
-  double units_to_cd_m2 = 1.0;    // scene radiance unit -> cd/m²
-  double display_max_cd_m2 = 100.0;  // L_dmax
-  double max_contrast = 100.0;       // C_max
-  double gamma = 2.2;
-};
-
 // Tumblin–Rushmeier 1993 (paper ref. 18), with the constants of docs/design.md §4. The
 // adaptation luminances are held to the range where the model cannot flatten or
 // invert (at least ≈1.1·10⁻³ cd/m², see tone_map.cpp), so display() is monotone
 // non-decreasing in the world luminance at every adaptation.
 class TumblinRushmeierToneMap final : public ToneMap {
  public:
-  explicit TumblinRushmeierToneMap(const TumblinRushmeierParams& p);
+  // settings.world_adaptation must be resolved (positive): make_tone_map()
+  // puts in the luminance the camera sees where the settings leave it 0.
+  explicit TumblinRushmeierToneMap(const ToneMapSettings& settings);
   double display(double world_luminance) const override;
   Rgb display_rgb(const Rgb& radiance) const override;
   std::string describe() const override;
@@ -48,7 +43,7 @@ class TumblinRushmeierToneMap final : public ToneMap {
   double display_luminance_cd_m2(double world_luminance) const;
 
  private:
-  TumblinRushmeierParams p_;
+  ToneMapSettings settings_;
   double exponent_ = 1.0;       // α(L_wa)/α(L_da)
   double log_multiplier_ = 0.0;  // (β(L_wa) − β(L_da))/α(L_da)
   double log_lamberts_per_unit_ = 0.0;
@@ -66,5 +61,10 @@ class LinearToneMap final : public ToneMap {
   double white_;
   double gamma_;
 };
+
+// The tone map the settings stand for, given what the camera sees: the
+// log-average luminance (the Tumblin–Rushmeier adaptation when the settings
+// leave it 0) and the brightest luminance (the linear map's white likewise).
+std::unique_ptr<ToneMap> make_tone_map(const ToneMapSettings& settings, double log_average, double brightest);
 
 }  // namespace lhr

@@ -22,7 +22,7 @@ Vec3 unit_normal(const std::array<Vec3, 3>& t) {
 // The point the kernel and shadow rays start from: x itself, nudged toward the
 // receiver's interior so that a node on a shooter's plane sees it from the
 // side its form factor limit was taken on (docs/design.md §4: finite in corners).
-Vec3 kernel_origin(const ReceiverPoint& r, const RayScene& rays) {
+Vec3 kernel_origin(const ReceiverPoint& r, const RayCaster& rays) {
   return r.x + 8.0 * rays.epsilon() * r.approach;
 }
 
@@ -83,7 +83,7 @@ struct RayOutcome {
 };
 
 double visible_fraction(const ReceiverPoint& receiver, std::span<const std::array<Vec3, 3>> triangles,
-                        const std::vector<double>& cumulative, const RayScene& rays,
+                        const std::vector<double>& cumulative, const RayCaster& rays,
                         const TransportSampling& sampling, std::uint64_t& ray_count,
                         std::vector<RayOutcome>* per_triangle = nullptr) {
   const Vec3 origin = kernel_origin(receiver, rays);
@@ -170,7 +170,7 @@ std::array<double, 3> near_basis_form_factors(const ReceiverPoint& receiver, con
 }  // namespace
 
 TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
-                                         const RayScene& rays, const TransportSampling& sampling,
+                                         const RayCaster& rays, const TransportSampling& sampling,
                                          std::uint64_t& ray_count) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
@@ -285,7 +285,7 @@ double shape_factor(const std::vector<double>& weighing, const std::vector<doubl
 }  // namespace
 
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
-                                        std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
+                                        std::span<const std::array<Vec3, 3>> shooter, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape,
                                         std::span<const std::array<std::int32_t, 3>> corner_edges) {
@@ -320,7 +320,7 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
 }
 
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
-                                        std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                        std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape) {
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
@@ -330,7 +330,7 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
 }
 
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
-                                               std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                               std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
                                                const ShooterShape* shape, bool above_horizon) {
   TransportCoefficients out;

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "mesh/types.hpp"
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 
 namespace lhr {
 
@@ -39,7 +39,7 @@ struct TransportSampling {
 
 // Linear-basis shooter triangle (corners counter-clockwise seen from its front).
 TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
-                                         const RayScene& rays, const TransportSampling& sampling,
+                                         const RayCaster& rays, const TransportSampling& sampling,
                                          std::uint64_t& ray_count);
 
 // What the triangles of a constant-basis shooter hold, so that a link
@@ -64,7 +64,7 @@ struct ShooterShape {
 // triangles' edges (shared_edge_form_factors): the same form factors, each
 // shared edge integrated once.
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
-                                        std::span<const std::array<Vec3, 3>> shooter, const RayScene& rays,
+                                        std::span<const std::array<Vec3, 3>> shooter, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape = nullptr,
                                         std::span<const std::array<std::int32_t, 3>> corner_edges = {});
@@ -78,7 +78,7 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
 // fraction (the kernel grows as 1/r⁴ there), which misjudged a floor seen
 // from the foot of a wall by 30 % (docs/accuracy.md).
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
-                                        std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                        std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape = nullptr);
 
@@ -90,7 +90,7 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
 // triangles across the horizon, and drawing by it where there are none
 // only adds noise (each ray then counts for a weight ratio).
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
-                                               std::span<const std::array<Vec3, 3>> triangles, const RayScene& rays,
+                                               std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
                                                const ShooterShape* shape, bool above_horizon);
 

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 #include "render/camera_rays.hpp"
 
 namespace lhr {
@@ -21,7 +21,7 @@ PixelHits trace_pixels(const Camera& camera, const std::vector<const TriMesh*>& 
   hits.height = camera.height;
   hits.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height);
   if (meshes.empty()) return hits;
-  const RayScene scene(meshes);
+  const RayCaster scene(meshes);
   const CameraRays rays(camera);
   // Each pixel is written once by its own ray: the result does not depend on
   // the thread count.

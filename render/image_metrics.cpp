@@ -68,7 +68,7 @@ std::vector<std::uint8_t> nonzero_mask(const Image& reference) {
   return mask;
 }
 
-std::unique_ptr<ToneMap> reference_tone_map(const ToneMapChoice& tone, const Image& reference,
+std::unique_ptr<ToneMap> reference_tone_map(const ToneMapSettings& tone, const Image& reference,
                                             const std::vector<std::uint8_t>& mask) {
   if (mask.size() != static_cast<std::size_t>(reference.width) * reference.height) {
     throw std::invalid_argument("the background mask does not match the image size");

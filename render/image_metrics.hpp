@@ -56,7 +56,7 @@ std::vector<std::uint8_t> nonzero_mask(const Image& reference);
 // sees: the log-average and the brightest luminance over the masked
 // reference pixels fill the defaults (as make_solution_view does for a
 // solution), so an image and its reference are mapped alike.
-std::unique_ptr<ToneMap> reference_tone_map(const ToneMapChoice& tone, const Image& reference,
+std::unique_ptr<ToneMap> reference_tone_map(const ToneMapSettings& tone, const Image& reference,
                                             const std::vector<std::uint8_t>& mask);
 
 // The relative norm: % of masked pixels with

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "render/gouraud.hpp"
@@ -29,27 +30,14 @@ std::string option_name(const std::string& keyword, OptionStyle style) {
   return flag;
 }
 
-ToneMapChoice::Kind tone_map_kind(const std::string& name, OptionStyle style) {
-  if (name == "tumblin-rushmeier") return ToneMapChoice::Kind::kTumblinRushmeier;
-  if (name == "linear") return ToneMapChoice::Kind::kLinear;
+ToneMapKind tone_map_kind(const std::string& name, OptionStyle style) {
+  if (const std::optional<ToneMapKind> kind = tone_map_kind_named(name)) return *kind;
   throw std::invalid_argument(option_name("tone_map", style) + " must be tumblin-rushmeier or linear");
 }
 
-ToneMapChoice tone_choice_from_scene(const ToneMapSettings& file, OptionStyle style) {
-  ToneMapChoice tone;
-  if (file.kind) tone.kind = tone_map_kind(*file.kind, style);
-  tone.world_adaptation = file.world_adaptation.value_or(tone.world_adaptation);
-  tone.units_to_cd_m2 = file.units_to_cd_m2.value_or(tone.units_to_cd_m2);
-  tone.linear_white = file.white.value_or(tone.linear_white);
-  tone.display_max_cd_m2 = file.display_max_cd_m2.value_or(tone.display_max_cd_m2);
-  tone.max_contrast = file.max_contrast.value_or(tone.max_contrast);
-  tone.gamma = file.gamma.value_or(tone.gamma);
-  return tone;
-}
-
-void check_tone_choice(const ToneMapChoice& tone, OptionStyle style) {
+void check_tone_settings(const ToneMapSettings& tone, OptionStyle style) {
   if (!(tone.units_to_cd_m2 > 0) || !(tone.display_max_cd_m2 > 0) || !(tone.max_contrast > 1) ||
-      !(tone.gamma > 0) || !(tone.world_adaptation >= 0) || !(tone.linear_white >= 0)) {
+      !(tone.gamma > 0) || !(tone.world_adaptation >= 0) || !(tone.white >= 0)) {
     const auto name = [style](const char* keyword) { return option_name(keyword, style); };
     throw std::invalid_argument("tone map: " + name("units_to_cd") + ", " + name("display_max") + " and " +
                                 name("gamma") + " must be positive, " + name("max_contrast") + " above 1, " +
@@ -57,23 +45,8 @@ void check_tone_choice(const ToneMapChoice& tone, OptionStyle style) {
   }
 }
 
-std::unique_ptr<ToneMap> make_tone_map(const ToneMapChoice& tone, double log_average, double brightest) {
-  if (tone.kind == ToneMapChoice::Kind::kLinear) {
-    const double white = tone.linear_white > 0 ? tone.linear_white : brightest;
-    return std::make_unique<LinearToneMap>(white > 0 ? white : 1.0, tone.gamma);
-  }
-  TumblinRushmeierParams p;
-  p.world_adaptation = tone.world_adaptation > 0 ? tone.world_adaptation : log_average;
-  if (!(p.world_adaptation > 0)) p.world_adaptation = 1.0;  // a black view: any adaptation shows black
-  p.units_to_cd_m2 = tone.units_to_cd_m2;
-  p.display_max_cd_m2 = tone.display_max_cd_m2;
-  p.max_contrast = tone.max_contrast;
-  p.gamma = tone.gamma;
-  return std::make_unique<TumblinRushmeierToneMap>(p);
-}
-
 SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, const Camera& camera,
-                                const ToneMapChoice& tone) {
+                                const ToneMapSettings& tone) {
   SolutionView view;
   std::vector<const TriMesh*> meshes;
   std::vector<const std::vector<Rgb>*> radiance_sets;
@@ -93,7 +66,7 @@ SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, co
   }
   const double seen = log_average_luminance(view.radiance_image, view.hit_mask);
   view.tone_map = make_tone_map(tone, seen, brightest);
-  if (tone.kind == ToneMapChoice::Kind::kTumblinRushmeier) {
+  if (tone.kind == ToneMapKind::kTumblinRushmeier) {
     view.world_adaptation = tone.world_adaptation > 0 ? tone.world_adaptation : (seen > 0 ? seen : 1.0);
   }
 

@@ -20,16 +20,6 @@ struct SurfaceSolution {
   std::vector<Rgb> radiance;  // per vertex of mesh.mesh
 };
 
-struct ToneMapChoice {
-  enum class Kind { kTumblinRushmeier, kLinear } kind = Kind::kTumblinRushmeier;
-  double world_adaptation = 0.0;  // 0: log-average luminance the camera sees
-  double units_to_cd_m2 = 1.0;
-  double display_max_cd_m2 = 100.0;
-  double max_contrast = 100.0;
-  double gamma = 2.2;
-  double linear_white = 0.0;  // 0: the largest luminance the camera sees
-};
-
 // How a check names a setting in its message: as a command-line flag
 // ("--eps-pixel") or as a keyword of the Python module ("eps_pixel").
 enum class OptionStyle { kFlag, kKeyword };
@@ -38,14 +28,10 @@ enum class OptionStyle { kFlag, kKeyword };
 std::string option_name(const std::string& keyword, OptionStyle style);
 
 // "tumblin-rushmeier" or "linear"; anything else throws std::invalid_argument.
-ToneMapChoice::Kind tone_map_kind(const std::string& name, OptionStyle style);
-
-// A scene file's "tone_map" block over the defaults; a caller's own settings
-// (flags, keywords) then override single fields. Throws std::invalid_argument.
-ToneMapChoice tone_choice_from_scene(const ToneMapSettings& file, OptionStyle style);
+ToneMapKind tone_map_kind(const std::string& name, OptionStyle style);
 
 // Throws std::invalid_argument naming the fields out of range.
-void check_tone_choice(const ToneMapChoice& tone, OptionStyle style);
+void check_tone_settings(const ToneMapSettings& tone, OptionStyle style);
 
 struct SolutionView {
   ExportMesh export_mesh;  // all surfaces, display colours and radiance
@@ -59,12 +45,7 @@ struct SolutionView {
 // exp(mean(log(δ + L))) over the pixels where a surface is seen.
 double log_average_luminance(const Image& radiance, const std::vector<std::uint8_t>& mask);
 
-// The tone map a choice stands for, given what the camera sees: the
-// log-average luminance (TR adaptation default) and the brightest luminance
-// (linear white default).
-std::unique_ptr<ToneMap> make_tone_map(const ToneMapChoice& tone, double log_average, double brightest);
-
 SolutionView make_solution_view(const std::vector<SurfaceSolution>& surfaces, const Camera& camera,
-                                const ToneMapChoice& tone);
+                                const ToneMapSettings& tone);
 
 }  // namespace lhr

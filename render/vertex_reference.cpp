@@ -251,7 +251,7 @@ VertexReference trace_vertex_reference(const PathTracer& tracer, const RawMesh& 
   return result;
 }
 
-ExportMesh vertex_reference_export(const RawMesh& mesh, const VertexReference& reference, const ToneMapChoice& tone) {
+ExportMesh vertex_reference_export(const RawMesh& mesh, const VertexReference& reference, const ToneMapSettings& tone) {
   const std::size_t n = mesh.points.size();
   if (reference.radiance.size() != n || reference.standard_error.size() != n) {
     throw std::invalid_argument("vertex reference: " + std::to_string(reference.radiance.size()) +

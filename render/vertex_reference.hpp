@@ -48,6 +48,6 @@ VertexReference trace_vertex_reference(const PathTracer& tracer, const RawMesh& 
 // estimate as radiance, its standard error, and the display colour of the
 // estimate under the tone map chosen, its defaults (adaptation, white) taken
 // from the luminance of the vertices.
-ExportMesh vertex_reference_export(const RawMesh& mesh, const VertexReference& reference, const ToneMapChoice& tone);
+ExportMesh vertex_reference_export(const RawMesh& mesh, const VertexReference& reference, const ToneMapSettings& tone);
 
 }  // namespace lhr

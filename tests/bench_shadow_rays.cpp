@@ -1,4 +1,4 @@
-// Shadow rays per second on the Cornell box, for every way RayScene can hand
+// Shadow rays per second on the Cornell box, for every way RayCaster can hand
 // a batch to Embree (one ray at a time, the rtcOccluded1M stream, packets of
 // 4, 8 and 16), on two sets of rays: random segments between surfaces, in
 // one batch, and the batches the solvers cast, the 16 rays of one link
@@ -11,9 +11,9 @@
 #include <span>
 
 #include "io/scene_loader.hpp"
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 #include "radiosity/sampling.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 
 namespace lhr {
 namespace {
@@ -24,7 +24,7 @@ constexpr std::size_t kLinkRays = kLinkSide * kLinkSide;
 
 struct CornellRays {
   Scene scene;
-  std::unique_ptr<SceneModel> model;
+  std::unique_ptr<MeshedScene> model;
   std::vector<ShadowRay> random;  // one batch
   std::vector<ShadowRay> links;   // kLinkRays per batch
 
@@ -32,7 +32,7 @@ struct CornellRays {
     scene = load_scene(std::string(LHR_SOURCE_DIR) + "/data/cornell/cornell.scene.json").scene;
     MeshingOptions meshing;
     meshing.max_edge = 48.0;
-    model = std::make_unique<SceneModel>(scene, meshing);
+    model = std::make_unique<MeshedScene>(scene, meshing);
     const auto lifted = [&](int s, NodeId n, const TriangleSample& t) {
       return model->rays().lift(at(model->triangle(s, n), t), model->normal(s, n));
     };

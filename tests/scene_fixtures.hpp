@@ -58,7 +58,7 @@ inline Scene closed_cube(const Material& walls, const Material& top, const std::
 
 // Power absorbed by all surfaces: π ∫ (1 − ρ) E_in dA with E_in/π = (L − Le)/ρ,
 // the linear interpolant integrated exactly over each leaf.
-inline Rgb absorbed_power(const SceneModel& model, const std::function<std::vector<Rgb>(int)>& vertex_values) {
+inline Rgb absorbed_power(const MeshedScene& model, const std::function<std::vector<Rgb>(int)>& vertex_values) {
   Rgb absorbed(0, 0, 0);
   for (int s = 0; s < model.num_surfaces(); ++s) {
     const Material& m = model.material(s);
@@ -172,14 +172,14 @@ inline RawMesh raw_mesh(const TriMesh& mesh, const std::vector<Rgb>& values = {}
 }
 
 // What `camera` sees, for the linear solver's importance.
-inline std::vector<ViewSample> view_from(const SceneModel& model, const Camera& camera) {
+inline std::vector<ViewSample> view_from(const MeshedScene& model, const Camera& camera) {
   std::vector<const TriMesh*> meshes;
   for (int s = 0; s < model.num_surfaces(); ++s) meshes.push_back(&model.hierarchy(s).mesh());
   return view_samples(camera, meshes);
 }
 
 // What a camera at `eye` looking at `target` sees, width x height pixels.
-inline std::vector<ViewSample> view_from(const SceneModel& model, const Vec3& eye, const Vec3& target, const Vec3& up,
+inline std::vector<ViewSample> view_from(const MeshedScene& model, const Vec3& eye, const Vec3& target, const Vec3& up,
                                          double fov_y_deg, int width, int height) {
   Camera camera;
   camera.eye = eye;
@@ -193,7 +193,7 @@ inline std::vector<ViewSample> view_from(const SceneModel& model, const Vec3& ey
 
 // What the scene camera (or the framing camera) sees: at size x size pixels
 // when size > 0, else its own.
-inline std::vector<ViewSample> camera_view(const SceneModel& model, int size) {
+inline std::vector<ViewSample> camera_view(const MeshedScene& model, int size) {
   Camera camera = model.scene().camera.value_or(framing_camera(model.scene()));
   if (size > 0) camera.width = camera.height = size;
   return view_from(model, camera);

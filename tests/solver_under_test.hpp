@@ -18,7 +18,7 @@
 #include "mesh/initial_mesh.hpp"
 #include "radiosity/classical_solver.hpp"
 #include "radiosity/linear_solver.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 #include "scene_fixtures.hpp"
 
 namespace lhr::test {
@@ -73,7 +73,7 @@ class SolverUnderTest {
       : method_(method), scene_(std::move(scene)) {
     MeshingOptions meshing;
     meshing.max_edge = settings.max_edge;
-    model_ = std::make_unique<SceneModel>(scene_, meshing);
+    model_ = std::make_unique<MeshedScene>(scene_, meshing);
     if (settings.presplit_surface >= 0) {
       SurfaceHierarchy& h = model_->hierarchy(settings.presplit_surface);
       for (int level = 0; level < settings.presplit_levels; ++level) {
@@ -91,7 +91,7 @@ class SolverUnderTest {
   }
 
   Method method() const { return method_; }
-  const SceneModel& model() const { return *model_; }
+  const MeshedScene& model() const { return *model_; }
 
   void solve() {
     if (linear_) linear_->solve();
@@ -180,7 +180,7 @@ class SolverUnderTest {
 
   Method method_;
   Scene scene_;  // the model keeps a pointer to it
-  std::unique_ptr<SceneModel> model_;
+  std::unique_ptr<MeshedScene> model_;
   std::unique_ptr<LinearSolver> linear_;
   std::unique_ptr<ClassicalSolver> classical_;
 };

@@ -18,7 +18,7 @@
 #include "io/scene_loader.hpp"
 #include "mesh/validate.hpp"
 #include "radiosity/classical_solver.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 #include "test_support.hpp"
 
 namespace lhr {
@@ -169,7 +169,7 @@ TEST(BlenderExport, ClosedRoomAbsorbsWhatTheLightEmitsAndEverySurfaceFacingItIsL
   const LoadResult load = load_scene(room_scene());
   MeshingOptions meshing;
   meshing.max_edge = 0.5;
-  SceneModel model(load.scene, meshing);
+  MeshedScene model(load.scene, meshing);
   ClassicalOptions options;
   options.eps_bf = 0.01;
   options.tolerance = 1e-7;

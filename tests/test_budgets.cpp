@@ -60,7 +60,7 @@ Outcome outcome_of(const Stats& stats) {
   return o;
 }
 
-void expect_valid(const SceneModel& model, const Outcome& o) {
+void expect_valid(const MeshedScene& model, const Outcome& o) {
   for (int s = 0; s < model.num_surfaces(); ++s) {
     for (const Violation& v : check_hierarchy(model.hierarchy(s))) ADD_FAILURE() << format_violation(v);
   }
@@ -72,7 +72,7 @@ void expect_valid(const SceneModel& model, const Outcome& o) {
 Outcome solve_linear(std::size_t max_links, std::size_t max_bytes, int threads = 0) {
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
-  SceneModel model(cornell(), coarse_meshing());
+  MeshedScene model(cornell(), coarse_meshing());
   LinearOptions options;
   options.eps_link = 5.0;
   options.eps_pixel = 0.1;
@@ -93,7 +93,7 @@ Outcome solve_linear(std::size_t max_links, std::size_t max_bytes, int threads =
 }
 
 Outcome solve_classical(std::size_t max_links, std::size_t max_bytes) {
-  SceneModel model(cornell(), coarse_meshing());
+  MeshedScene model(cornell(), coarse_meshing());
   ClassicalOptions options;
   options.eps_bf = 1e-3;
   options.visibility_samples = 2;

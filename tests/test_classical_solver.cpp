@@ -21,7 +21,7 @@ TEST(ClassicalSolver, ReceiverUnderASquareEmitterMatchesTheFormFactor) {
   const Scene scene = test::emitter_over_receiver(size, height, rho, le);
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   const int receiver = scene.materials[scene.surfaces[0].material].name == "receiver" ? 0 : 1;
   // The receiver refined five levels below its initial triangles, and
   // ε_BF = 1 keeping the solver from refining further, as in

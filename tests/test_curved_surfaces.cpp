@@ -70,7 +70,7 @@ TEST(CurvedSurfaces, SkewedQuadUnderALightGetsTheFormFactorAtEveryNode) {
   MeshingOptions meshing;
   meshing.max_edge = 140;
   {
-    SceneModel model(scene, meshing);
+    MeshedScene model(scene, meshing);
     LinearOptions options;
     LinearSolver solver(model, options);
     solver.solve();
@@ -81,7 +81,7 @@ TEST(CurvedSurfaces, SkewedQuadUnderALightGetsTheFormFactorAtEveryNode) {
     }
   }
   {
-    SceneModel model(scene, meshing);
+    MeshedScene model(scene, meshing);
     ClassicalOptions options;
     ClassicalSolver solver(model, options);
     solver.solve();
@@ -97,7 +97,7 @@ TEST(CurvedSurfaces, SkewedQuadUnderALightGetsTheFormFactorAtEveryNode) {
 // leaf on the linear interpolant of its vertex values, over ∫L_exact dA.
 // exact(x, n) takes the point and its leaf's normal.
 template <class Exact>
-double roof_l1_error(const SceneModel& model, int roof, const std::vector<Rgb>& radiance, const Exact& exact) {
+double roof_l1_error(const MeshedScene& model, int roof, const std::vector<Rgb>& radiance, const Exact& exact) {
   const SurfaceHierarchy& h = model.hierarchy(roof);
   constexpr int kSteps = 10;
   double error = 0.0, total = 0.0;
@@ -162,7 +162,7 @@ TEST(CurvedSurfaces, RadianceJumpingAtAFacetEdgeStaysAtTheEdge) {
   };
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearSolver solver(model, LinearOptions{});
   solver.solve();
   const auto& radiance = solver.vertex_radiance(roof);
@@ -192,7 +192,7 @@ TEST(CurvedSurfaces, EvenlyLitFacetsAreRefinedTowardTheirRidge) {
   const Surface& light = scene.surfaces[1 - roof];
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearSolver solver(model, LinearOptions{});
   solver.solve();
   const double error = roof_l1_error(model, roof, solver.vertex_radiance(roof), [&](const Vec3& x, const Vec3& n) {
@@ -222,7 +222,7 @@ Scene sphere_in_lit_box() {
   return test::scene_from_soup(soup, "sphere in a lit box");
 }
 
-void expect_sphere_solution(const SceneModel& model, const std::vector<std::vector<Rgb>>& values,
+void expect_sphere_solution(const MeshedScene& model, const std::vector<std::vector<Rgb>>& values,
                             const std::string& method) {
   // Every value is finite and bounded by what the light and the walls can
   // give (Le·ρ/(1 − ρ) with the largest ρ); the sphere's top, facing the
@@ -268,7 +268,7 @@ TEST(CurvedSurfaces, SphereInALitBoxSolvesWithBothMethods) {
   MeshingOptions meshing;
   meshing.max_edge = 0.5;
   {
-    SceneModel model(scene, meshing);
+    MeshedScene model(scene, meshing);
     LinearOptions options;
     options.eps_link = 40.0;
     options.eps_pixel = 1.0;
@@ -281,7 +281,7 @@ TEST(CurvedSurfaces, SphereInALitBoxSolvesWithBothMethods) {
     expect_sphere_solution(model, values, "linear");
   }
   {
-    SceneModel model(scene, meshing);
+    MeshedScene model(scene, meshing);
     ClassicalOptions options;
     options.eps_bf = 0.01;
     ClassicalSolver solver(model, options);

@@ -11,7 +11,7 @@
 #include "radiosity/form_factor.hpp"
 #include "radiosity/linear_solver.hpp"
 #include "render/path_tracer.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 #include "scene_fixtures.hpp"
 #include "test_support.hpp"
 
@@ -30,7 +30,7 @@ Material make_material(const std::string& name, double rho, double emission) {
 std::vector<Rgb> solve_linear(const Scene& scene, double h, LinearOptions options = {}, int* iterations = nullptr) {
   MeshingOptions meshing;
   meshing.max_edge = h;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearSolver solver(model, options);
   solver.solve();
   if (iterations) *iterations = solver.stats().iterations;
@@ -46,7 +46,7 @@ std::vector<Rgb> solve_linear(const Scene& scene, double h, LinearOptions option
 std::vector<Rgb> solve_classical(const Scene& scene, double h, ClassicalOptions options = {.eps_bf = 0.02}) {
   MeshingOptions meshing;
   meshing.max_edge = h;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   ClassicalSolver solver(model, options);
   solver.solve();
   std::vector<Rgb> all;
@@ -268,7 +268,7 @@ TEST(EdgeCases, ACentimetreBoxOnATenKilometreFloorIsKeptAndLitAsItsFormFactorSay
   ASSERT_GE(top, 0);
   MeshingOptions meshing;
   meshing.max_edge = 0.1 * kFloor;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearSolver solver(model, LinearOptions{});
   solver.solve();
   for (int s = 0; s < model.num_surfaces(); ++s) {
@@ -315,7 +315,7 @@ TEST(EdgeCases, ACameraOutsideAClosedBoxSeesBlackBacksAsThePathTracerDoes) {
   settings.linear.eps_pixel = 1;
   for (SolveMethod method : {SolveMethod::kLinear, SolveMethod::kClassical}) {
     settings.method = method;
-    const SceneSolution solution = solve_scene(scene, settings);
+    const Solution solution = solve_scene(scene, settings);
     const PathTracer tracer(scene);
     PathTraceOptions options;
     options.spp = 4;

@@ -30,7 +30,7 @@ const std::array<Vec3, 4> kOpening{Vec3(0, 0, 0), Vec3(552.8, 0, 0), Vec3(556, 5
 // from the leaf's centre used before counted points of the opening behind
 // the leaf's own plane (seen from a block's top) as hidden and weighed
 // grazing directions like frontal ones: it put the escape 5 % low.
-double escaping_share(const RayScene& rays, const std::array<Vec3, 3>& leaf, const Vec3& n, std::uint64_t key) {
+double escaping_share(const RayCaster& rays, const std::array<Vec3, 3>& leaf, const Vec3& n, std::uint64_t key) {
   const Vec3 inward(0, 0, 1);
   const std::array<std::array<Vec3, 3>, 2> halves{{{kOpening[0], kOpening[1], kOpening[2]},
                                                    {kOpening[0], kOpening[2], kOpening[3]}}};
@@ -85,7 +85,7 @@ TEST(EnergyBalance, CornellBoxEmittedEqualsAbsorbedPlusEscaped) {
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   MeshingOptions meshing;
   meshing.max_edge = 100.0;
-  SceneModel model(loaded.scene, meshing);
+  MeshedScene model(loaded.scene, meshing);
   ClassicalOptions options;
   options.eps_bf = 0.01;
   options.tolerance = 1e-7;
@@ -150,7 +150,7 @@ TEST(EnergyBalance, ABrightClosedRoomSeenInPartAbsorbsWhatItsLampEmits) {
   const Scene scene = bright_closed_room();
   MeshingOptions meshing;
   meshing.max_edge = default_max_edge(scene);
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   options.view = test::view_from(model, Vec3(2.5, 1.4, 0.3), Vec3(2.5, 1.4, 4.0), Vec3(0, 1, 0), 30.0, 128, 96);
   LinearSolver solver(model, options);

@@ -36,7 +36,7 @@ TEST_P(AnalyticScenes, FurnaceCubeIsTwoEverywhere) {
   const PerMethod<double> value_tolerance{0.005 * 2.0, {{Method::kClassical, 0.02}}};
   SolverUnderTest solver(GetParam(), test::furnace_cube(0.5, 1.0), settings[GetParam()]);
   solver.solve();
-  const SceneModel& model = solver.model();
+  const MeshedScene& model = solver.model();
   ASSERT_EQ(model.num_surfaces(), 6);
   EXPECT_GT(solver.refined_links(), 100u) << "the test must exercise refined shooters";
   EXPECT_GE(solver.max_level(), 3) << "the test must exercise refinement";
@@ -131,7 +131,7 @@ TEST_P(AnalyticScenes, ClosedBoxAbsorbsAllItEmits) {
   const PerMethod<double> relative_tolerance{0.01, {{Method::kLinear, 0.005}}};
   SolverUnderTest solver(GetParam(), scene, settings[GetParam()]);
   solver.solve();
-  const SceneModel& model = solver.model();
+  const MeshedScene& model = solver.model();
   double emitted = 0.0;
   for (int s = 0; s < model.num_surfaces(); ++s) emitted += M_PI * model.surface_area(s) * model.material(s).emission[0];
   ASSERT_GT(emitted, 0.0);

@@ -132,15 +132,15 @@ TEST(ImageMetrics, ReferenceToneMapTakesItsDefaultsFromTheMaskedReference) {
   set_pixel(reference, 1, 0, 1, 1, 1);
   set_pixel(reference, 2, 0, 8, 8, 8);
   const std::vector<std::uint8_t> mask{1, 1, 0};
-  ToneMapChoice choice;
-  choice.kind = ToneMapChoice::Kind::kLinear;
-  choice.gamma = 1.0;
-  const auto tone = reference_tone_map(choice, reference, mask);
+  ToneMapSettings linear;
+  linear.kind = ToneMapKind::kLinear;
+  linear.gamma = 1.0;
+  const auto tone = reference_tone_map(linear, reference, mask);
   EXPECT_NEAR(tone->display(2.0), 1.0, 1e-9);
   EXPECT_NEAR(tone->display(1.0), 0.5, 1e-9);
   // Tumblin–Rushmeier adapts to the log-average of the masked pixels, as the
   // view of a solution does.
-  ToneMapChoice tr;
+  ToneMapSettings tr;
   const auto mapped = reference_tone_map(tr, reference, mask);
   tr.world_adaptation = log_average_luminance(reference, mask);
   const auto expected = make_tone_map(tr, 0.0, 0.0);

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <string>
 
-#include "io/scene_generator.hpp"
+#include "io/paper_scenes.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/hierarchy_check.hpp"
 #include "mesh/initial_mesh.hpp"
@@ -30,7 +30,7 @@ namespace {
 // Every graph's leaves are a cut of its receiver's quadtree whose leaves
 // sharing an edge differ by at most one level, with every leaf corner a
 // graph vertex.
-std::vector<std::string> graph_violations(const SceneModel& model, const InteractionGraph& g) {
+std::vector<std::string> graph_violations(const MeshedScene& model, const InteractionGraph& g) {
   std::vector<std::string> out;
   const SurfaceHierarchy& h = model.hierarchy(g.receiver_surface());
   const auto containing_leaf = [&](NodeId n) {
@@ -66,7 +66,7 @@ std::vector<std::string> graph_violations(const SceneModel& model, const Interac
   return out;
 }
 
-void expect_invariants(const SceneModel& model, const LinearSolver& solver, int iteration) {
+void expect_invariants(const MeshedScene& model, const LinearSolver& solver, int iteration) {
   for (int s = 0; s < model.num_surfaces(); ++s) {
     const SurfaceHierarchy& h = model.hierarchy(s);
     for (const Violation& v : check_hierarchy(h)) {
@@ -100,7 +100,7 @@ TEST(LinearSolver, FurnaceHoldsBetweenEachGraphsNodes) {
   const Scene scene = test::furnace_cube(0.5, 1.0);
   MeshingOptions meshing;
   meshing.max_edge = 0.5;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   options.eps_link = 20.0;
   options.tolerance = 1e-9;
@@ -143,7 +143,7 @@ TEST(LinearSolver, ProgressiveLinkingLeavesOutAtMostLinkPowerInAll) {
   const Scene scene = test::scene_from_soup(soup, "tiles");
   MeshingOptions meshing;
   meshing.max_edge = 0.5;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   ASSERT_EQ(model.num_surfaces(), 402);
   LinearOptions options;
   options.eps_link = 1e9;  // no refinement: this is about which surfaces shoot
@@ -179,7 +179,7 @@ TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
   const Scene scene = test::scene_from_soup(soup, "floor and wall");
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   options.eps_link = 5.0;
   LinearSolver solver(model, options);
@@ -232,7 +232,7 @@ TEST(LinearSolver, FloorUnderABoxIsDarkAndItsFootIsLitFromTheOpenSide) {
   const Scene scene = test::scene_from_soup(soup, "box on a floor");
   MeshingOptions meshing;
   meshing.max_edge = 0.2;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   options.eps_link = 5.0;
   LinearSolver solver(model, options);
@@ -292,7 +292,7 @@ TEST(LinearSolver, FurnaceWithABlockOnTheFloorIsTwoWhereverItIsOpen) {
   const Scene scene = test::scene_from_soup(soup, "furnace with a block");
   MeshingOptions meshing;
   meshing.max_edge = default_max_edge(scene);
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearSolver solver(model, LinearOptions{});
   solver.solve();
   std::vector<double> open_error;
@@ -353,7 +353,7 @@ TEST(LinearSolver, FurnaceWithAWindowRecessIsTwoOnThePane) {
   const Scene scene = test::scene_from_soup(soup, "furnace with a window recess");
   MeshingOptions meshing;
   meshing.max_edge = default_max_edge(scene);
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   // The camera looks at the window from across the room.
   options.view = test::view_from(model, Vec3(4.5, 1.5, 2.0), Vec3(0.0, 1.5, 2.0), Vec3(0, 1, 0), 55.0, 128, 96);
@@ -417,7 +417,7 @@ TEST(LinearSolver, FurnaceWithATableIsTwoInTheCornersUnderItsTop) {
   const Scene scene = test::scene_from_soup(soup, "furnace with a table");
   MeshingOptions meshing;
   meshing.max_edge = default_max_edge(scene);
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   options.view = test::view_from(model, Vec3(0.3, 1.0, 2.0), Vec3(x0, 0.6, 2.0), Vec3(0, 1, 0), 50.0, 128, 96);
   LinearSolver solver(model, options);
@@ -447,7 +447,7 @@ TEST(LinearSolver, InvariantsHoldAfterEveryIteration) {
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   MeshingOptions meshing;
   meshing.max_edge = 120.0;
-  SceneModel model(loaded.scene, meshing);
+  MeshedScene model(loaded.scene, meshing);
   LinearOptions options;
   options.eps_link = 10.0;
   options.eps_pixel = 0.1;
@@ -470,7 +470,7 @@ TEST(LinearSolver, SameResultWhateverTheThreadCount) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     MeshingOptions meshing;
     meshing.max_edge = 120.0;
-    SceneModel model(loaded.scene, meshing);
+    MeshedScene model(loaded.scene, meshing);
     LinearOptions options;
     options.eps_link = 10.0;
     options.eps_pixel = 0.1;
@@ -506,7 +506,7 @@ TEST(LinearSolver, AgreesWithClassicalOnAbsorbedPowerInTheCornellBox) {
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   MeshingOptions meshing;
   meshing.max_edge = 60.0;
-  SceneModel linear_model(loaded.scene, meshing);
+  MeshedScene linear_model(loaded.scene, meshing);
   LinearOptions options;
   options.view = test::camera_view(linear_model, 128);
   LinearSolver linear(linear_model, options);
@@ -514,7 +514,7 @@ TEST(LinearSolver, AgreesWithClassicalOnAbsorbedPowerInTheCornellBox) {
   const Rgb from_linear = test::absorbed_power(linear_model, [&](int s) {
     return linear.vertex_radiance(s, linear_model.hierarchy(s).conforming_mesh());
   });
-  SceneModel classical_model(loaded.scene, meshing);
+  MeshedScene classical_model(loaded.scene, meshing);
   ClassicalOptions classical_options;
   classical_options.eps_bf = 0.003;
   ClassicalSolver classical(classical_model, classical_options);
@@ -549,7 +549,7 @@ struct RefinementShare {
   double in_camera_room = 0.0;
 };
 
-RefinementShare refinement_in_camera_room(const SceneModel& model, const LinearSolver& solver) {
+RefinementShare refinement_in_camera_room(const MeshedScene& model, const LinearSolver& solver) {
   std::size_t inside = 0, all = 0;
   for (const InteractionGraph& g : solver.graphs()) {
     const SurfaceHierarchy& h = model.hierarchy(g.receiver_surface());
@@ -565,7 +565,7 @@ RefinementShare refinement_in_camera_room(const SceneModel& model, const LinearS
 }
 
 TEST(LinearSolver, ImportanceSendsTheLinksToTheRoomTheCameraSees) {
-  const GeneratedScene generated = generate_scene("four-rooms");
+  const PaperScene generated = make_paper_scene("four-rooms");
   Scene scene;
   scene.source = "four rooms";
   scene.materials = generated.soup.materials;
@@ -574,7 +574,7 @@ TEST(LinearSolver, ImportanceSendsTheLinksToTheRoomTheCameraSees) {
   const auto run = [&](bool with_camera) {
     MeshingOptions meshing;
     meshing.max_edge = default_max_edge(scene);
-    SceneModel model(scene, meshing);
+    MeshedScene model(scene, meshing);
     LinearOptions options;
     options.visibility_samples = 2;
     // Coarse: the share of links per room does not depend on the threshold

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "io/scene_loader.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 #include "test_support.hpp"
 
 namespace lhr {

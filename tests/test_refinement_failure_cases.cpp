@@ -118,7 +118,7 @@ TEST(RefinementFailureCases, SmallShadowInsideOnePatchNeedsTheMinimumDensity) {
   const auto solve = [&](double h, double& worst_ratio, bool& vertex_in_shadow) {
     MeshingOptions meshing;
     meshing.max_edge = h;
-    SceneModel model(scene, meshing);
+    MeshedScene model(scene, meshing);
     LinearOptions options;
     // A threshold at which the light's smooth gradient needs no refinement,
     // so only the initial mesh can meet the shadow.

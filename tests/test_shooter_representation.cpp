@@ -109,7 +109,7 @@ MeshingOptions default_meshing() {
   return meshing;
 }
 
-int surface_named(const SceneModel& model, const std::string& prefix) {
+int surface_named(const MeshedScene& model, const std::string& prefix) {
   for (int s = 0; s < model.num_surfaces(); ++s) {
     if (model.scene().surfaces[s].name.rfind(prefix, 0) == 0) return s;
   }
@@ -368,7 +368,7 @@ TEST(ShooterRepresentation, PreconditionTheWallSeesADarkPartOfABrightFloor) {
 
 TEST(ShooterRepresentation, LinearWallMatchesTheIntegralOverTheFloor) {
   const Scene scene = floor_lit_from_one_side();
-  SceneModel model(scene, default_meshing());
+  MeshedScene model(scene, default_meshing());
   // A camera across the floor sees the wall over a few thousand pixels, a
   // few per node: the paper's per-node test alone keeps the whole-floor link
   // at every wall node (its mean then shows on the whole wall).
@@ -419,7 +419,7 @@ TEST(ShooterRepresentation, ACeilingLitByAFloorUnderALampGetsAllOfIt) {
   const Scene scene = room_lit_by_a_lamp_under_its_ceiling();
   MeshingOptions meshing;  // as lhr solve chooses: 1/20 of the bounding box's diagonal
   meshing.max_edge = std::sqrt(kRoomX * kRoomX + kRoomY * kRoomY + kRoomHeight * kRoomHeight) / 20.0;
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   // A camera outside the open side, looking in: the ceiling gets few pixels
   // per node, the floor many.
   LinearOptions options;
@@ -496,7 +496,7 @@ double floor_under_a_low_lamp_reads(double lamp_height, double lamp_side) {
   const Scene scene = test::scene_from_soup(soup, "floor under a low lamp");
   MeshingOptions meshing;
   meshing.max_edge = 0.7;  // as lhr solve chooses for four such rooms side by side
-  SceneModel model(scene, meshing);
+  MeshedScene model(scene, meshing);
   LinearOptions options;
   options.view = test::view_from(model, Vec3(0.5, 3.5, 2.0), Vec3(0.5, 3.5, 3.0), Vec3(0, 1, 0), 30.0, 64, 64);
   LinearSolver solver(model, options);
@@ -527,7 +527,7 @@ TEST(ShooterRepresentation, AFloorNoPixelSeesReflectsWhatALowLampSendsIt) {
 
 TEST(ShooterRepresentation, ClassicalWallMatchesTheIntegralOverTheFloor) {
   const Scene scene = floor_lit_from_one_side();
-  SceneModel model(scene, default_meshing());
+  MeshedScene model(scene, default_meshing());
   ClassicalOptions options;
   options.visibility_samples = 1;  // nothing occludes anything here
   ClassicalSolver solver(model, options);

@@ -18,7 +18,7 @@
 
 #include "mesh/initial_mesh.hpp"
 #include "radiosity/form_factor.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 #include "scene_fixtures.hpp"
 
 namespace lhr {
@@ -132,7 +132,7 @@ WallResult solve_wall(const SmallLight& light, SolveMethod method) {
   settings.method = method;
   settings.meshing.max_edge = default_max_edge(scene);
   settings.camera = framing_camera(scene);
-  const SceneSolution solution = solve_scene(scene, settings);
+  const Solution solution = solve_scene(scene, settings);
   const ExportMesh& mesh = solution.view.export_mesh;
   WallResult out;
   for (const auto& t : mesh.triangles) {

@@ -10,7 +10,7 @@
 
 #include "io/scene_loader.hpp"
 #include "radiosity/tone_map.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 #include "test_support.hpp"
 
 namespace lhr {
@@ -18,14 +18,14 @@ namespace {
 
 TEST(ToneMap, TumblinRushmeierIsTheIdentityWhenWorldAdaptsLikeTheDisplay) {
   // With L_wa = L_da (= L_dmax/√C_max) α and β agree, so L_d = L_w.
-  TumblinRushmeierParams p;
+  ToneMapSettings p;
   p.world_adaptation = p.display_max_cd_m2 / std::sqrt(p.max_contrast);
   const TumblinRushmeierToneMap tr(p);
   for (double l : {0.1, 1.0, 7.5, 42.0, 90.0}) EXPECT_NEAR(tr.display_luminance_cd_m2(l), l, 1e-9 * l);
 }
 
 TEST(ToneMap, TumblinRushmeierIsMonotoneAndBounded) {
-  TumblinRushmeierParams p;
+  ToneMapSettings p;
   p.world_adaptation = 3.0;
   const TumblinRushmeierToneMap tr(p);
   double previous = -1.0;
@@ -51,7 +51,7 @@ std::vector<double> adaptations_cd_m2() {
 TEST(ToneMap, TumblinRushmeierNeverInvertsAtAnyAdaptation) {
   for (const double adaptation : adaptations_cd_m2()) {
     SCOPED_TRACE(adaptation);
-    TumblinRushmeierParams p;
+    ToneMapSettings p;
     p.world_adaptation = adaptation;
     const TumblinRushmeierToneMap tr(p);
     // 10⁻¹⁰..10¹⁰ × the adaptation, 40 steps a decade.
@@ -84,7 +84,7 @@ TEST(ToneMap, TumblinRushmeierNeverInvertsAtAnyAdaptation) {
 
 TEST(ToneMap, TumblinRushmeierGuardsTheWorldLuminance) {
   for (const double adaptation : {1e-8, 1.0, 1e6}) {
-    TumblinRushmeierParams p;
+    ToneMapSettings p;
     p.world_adaptation = adaptation;
     const TumblinRushmeierToneMap tr(p);
     EXPECT_EQ(tr.display(0.0), 0.0);
@@ -107,7 +107,7 @@ TEST(ToneMap, TumblinRushmeierColourKeepsOrderAndGrowsWithScale) {
   const Rgb colour(0.9, 0.3, 0.05);
   for (const double adaptation : adaptations_cd_m2()) {
     SCOPED_TRACE(adaptation);
-    TumblinRushmeierParams p;
+    ToneMapSettings p;
     p.world_adaptation = adaptation;
     const TumblinRushmeierToneMap tr(p);
     Rgb previous(-1, -1, -1);
@@ -131,7 +131,7 @@ TEST(ToneMap, TumblinRushmeierColourKeepsOrderAndGrowsWithScale) {
 TEST(ToneMap, AHotspotIsNoDarkerThanItsDimSurroundAtVeryLowAdaptation) {
   // Adapted to 10⁻⁸ cd/m² the unclamped model has α(L_wa) < 0 and maps a light a
   // hundred or a million times brighter than its surround to less than it.
-  TumblinRushmeierParams p;
+  ToneMapSettings p;
   p.world_adaptation = 1e-8;
   const TumblinRushmeierToneMap tr(p);
   for (const double ratio : {1e2, 1e6}) {
@@ -155,7 +155,7 @@ TEST(ToneMap, TheCornellBoxLitAtAMillionthCandelaIsNotInverted) {
   settings.meshing.max_edge = 140.0;
   settings.linear.eps_link = 40.0;
   settings.tone.units_to_cd_m2 = 1e-6;
-  const SceneSolution solution = solve_scene(scene, settings);
+  const Solution solution = solve_scene(scene, settings);
   const ExportMesh& mesh = solution.view.export_mesh;
   const auto* tone = dynamic_cast<const TumblinRushmeierToneMap*>(solution.view.tone_map.get());
   ASSERT_NE(tone, nullptr);
@@ -173,7 +173,7 @@ TEST(ToneMap, TheCornellBoxLitAtAMillionthCandelaIsNotInverted) {
   EXPECT_GT(tone->display_luminance_cd_m2(light), tone->display_luminance_cd_m2(floor));
 
   // The same radiances a thousand times brighter are visible, and ordered.
-  ToneMapChoice brighter = settings.tone;
+  ToneMapSettings brighter = settings.tone;
   brighter.units_to_cd_m2 = 1e-3;
   const auto shown = make_tone_map(brighter, solution.view.world_adaptation, light);
   EXPECT_GT(shown->display(floor), 0.0);
@@ -181,7 +181,7 @@ TEST(ToneMap, TheCornellBoxLitAtAMillionthCandelaIsNotInverted) {
 }
 
 TEST(ToneMap, BrighterAdaptationDarkensTheSameLuminance) {
-  TumblinRushmeierParams dim, bright;
+  ToneMapSettings dim, bright;
   dim.world_adaptation = 1.0;
   bright.world_adaptation = 100.0;
   EXPECT_GT(TumblinRushmeierToneMap(dim).display(5.0), TumblinRushmeierToneMap(bright).display(5.0));
@@ -189,7 +189,7 @@ TEST(ToneMap, BrighterAdaptationDarkensTheSameLuminance) {
 
 TEST(ToneMap, ColourKeepsItsHueUnderTumblinRushmeier) {
   // Channels are scaled by one factor L_d/L_w before the black offset 1/C_max.
-  TumblinRushmeierParams p;
+  ToneMapSettings p;
   p.gamma = 1.0;
   p.world_adaptation = 2.0;
   const TumblinRushmeierToneMap tr(p);
@@ -214,7 +214,7 @@ TEST(ToneMap, LinearMapsWhiteToOne) {
 }
 
 TEST(ToneMap, RejectsNonsenseParameters) {
-  TumblinRushmeierParams p;
+  ToneMapSettings p;
   p.world_adaptation = 0.0;
   EXPECT_THROW(TumblinRushmeierToneMap{p}, std::invalid_argument);
   EXPECT_THROW(LinearToneMap(-1.0), std::invalid_argument);

@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/transport.hpp"
 
@@ -105,7 +105,7 @@ TEST(SurfaceTransport, FloorSeenFromTheFootOfAWallPastABlockMatchesTracedRays) {
     floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
   }
   const TriMesh block_mesh = block();
-  const RayScene rays({&floor_mesh, &block_mesh});
+  const RayCaster rays({&floor_mesh, &block_mesh});
   const std::vector<std::vector<Vec3>> polygons{
       {Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
   const auto triangles = floor_triangles(8);
@@ -145,7 +145,7 @@ TEST(TriangleTransport, AtTheFootOfAWallTheSplitIsTheWallsValueThere) {
   const std::array<Vec3, 3> wall{Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(0, 3, 0)};  // z = 0, faces +z
   TriMesh mesh;
   mesh.add_face(mesh.add_vertex(wall[0]), mesh.add_vertex(wall[1]), mesh.add_vertex(wall[2]));
-  const RayScene rays({&mesh});
+  const RayCaster rays({&mesh});
   for (const double along : {0.4, 1.0, 2.1}) {
     ReceiverPoint x;
     x.x = Vec3(along, 0, 0);
@@ -222,7 +222,7 @@ TEST(ClusterTransport, AReceiverGetsTheFloorAsItsOwnKernelWeighsIt) {
   for (const auto& t : triangles) {
     floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
   }
-  const RayScene rays({&floor_mesh});
+  const RayCaster rays({&floor_mesh});
   const TriangleValues values(triangles, floor_value);
   const ShooterShape shape = values.shape();
   const double mean = values.mean;
@@ -279,7 +279,7 @@ TEST(ClusterTransport, WhatATableHidesIsLeftOutOfTheMeanTheCeilingSees) {
   const auto t10 = table.add_vertex(Vec3(kTableHigh, kTableHeight, kTableLow));
   table.add_face(t00, t01, t11);
   table.add_face(t00, t11, t10);
-  const RayScene rays({&floor_mesh, &table});
+  const RayCaster rays({&floor_mesh, &table});
   const TriangleValues values(triangles, shaded_floor_value);
   const ShooterShape shape = values.shape();
   const double mean = values.mean;

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 #include "radiosity/sampling.hpp"
 
 namespace lhr {
@@ -52,9 +52,9 @@ TEST(Sampling, PatternsArePureFunctionsOfTheKey) {
   EXPECT_TRUE(differs);
 }
 
-TEST(RayScene, BlockerBetweenParallelSquares) {
+TEST(RayCaster, BlockerBetweenParallelSquares) {
   const TriMesh floor = square(0, 0, 1, 0, 1), blocker = square(0.5, 0.25, 0.75, 0.25, 0.75);
-  const RayScene scene({&floor, &blocker});
+  const RayCaster scene({&floor, &blocker});
   const Vec3 up(0, 0, 1);
   EXPECT_TRUE(scene.occluded(scene.lift(Vec3(0.5, 0.5, 0), up), Vec3(0.5, 0.5, 1)));
   EXPECT_FALSE(scene.occluded(scene.lift(Vec3(0.1, 0.1, 0), up), Vec3(0.1, 0.1, 1)));
@@ -77,11 +77,11 @@ TEST(RayScene, BlockerBetweenParallelSquares) {
   }
 }
 
-TEST(RayScene, EveryBatchQueryAgreesWithSingleRays) {
+TEST(RayCaster, EveryBatchQueryAgreesWithSingleRays) {
   // Streams and packets of 4, 8 and 16 on a batch whose size is none of
   // their multiples, mixing clear and blocked segments in every packet.
   const TriMesh floor = square(0, 0, 1, 0, 1), blocker = square(0.5, 0.25, 0.75, 0.25, 0.75);
-  const RayScene scene({&floor, &blocker});
+  const RayCaster scene({&floor, &blocker});
   std::vector<ShadowRay> rays;
   for (std::uint64_t i = 0; i < 1001; ++i) {
     const Vec3 from = scene.lift(Vec3(unit_double(sample_key(i, 1)), unit_double(sample_key(i, 2)), 0), Vec3(0, 0, 1));
@@ -107,19 +107,19 @@ TEST(RayScene, EveryBatchQueryAgreesWithSingleRays) {
   EXPECT_EQ(chosen, single);
 }
 
-TEST(RayScene, SharedEdgeDoesNotLeak) {
+TEST(RayCaster, SharedEdgeDoesNotLeak) {
   // Rays through the diagonal shared by the two triangles of a square must hit.
   const TriMesh wall = square(1, 0, 1, 0, 1);
-  const RayScene scene({&wall});
+  const RayCaster scene({&wall});
   for (int i = 1; i < 200; ++i) {
     const double t = i / 200.0;
     EXPECT_TRUE(scene.occluded(Vec3(t, t, 0), Vec3(t, t, 2))) << t;
   }
 }
 
-TEST(RayScene, IntersectReportsSurfaceFaceAndDistance) {
+TEST(RayCaster, IntersectReportsSurfaceFaceAndDistance) {
   const TriMesh near_square = square(1, 0, 1, 0, 1), far_square = square(3, 0, 1, 0, 1);
-  const RayScene scene({&near_square, &far_square});
+  const RayCaster scene({&near_square, &far_square});
   const auto hit = scene.intersect(Vec3(0.8, 0.3, 0), Vec3(0, 0, 1));
   ASSERT_TRUE(hit.has_value());
   EXPECT_EQ(hit->surface, 0);

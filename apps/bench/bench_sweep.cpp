@@ -60,7 +60,7 @@ std::string describe_failure(const ChildResult& r) {
 class Scorer {
  public:
   Scorer(const Scene& scene, const Camera& camera, const std::filesystem::path& reference_path,
-         const ToneMapChoice& tone)
+         const ToneMapSettings& tone)
       : reference_(read_image(reference_path)) {
     if (reference_.width != camera.width || reference_.height != camera.height) {
       throw InputError(reference_path, "is " + std::to_string(reference_.width) + "x" +

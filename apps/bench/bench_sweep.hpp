@@ -33,7 +33,7 @@ struct BenchSettings {
   double reference_noise = 0.01;  // target relative noise of the reference (0: reference_max_spp samples)
   int reference_max_spp = 4096;
   double max_seconds = 0.0;  // start no run after this long (0: no limit)
-  ToneMapChoice tone;        // the metrics' tone map, as `lhr compare --scene` takes it
+  ToneMapSettings tone;        // the metrics' tone map, as `lhr compare --scene` takes it
 };
 
 struct BenchOutcome {

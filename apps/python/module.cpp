@@ -26,7 +26,7 @@
 #include "mesh/initial_mesh.hpp"
 #include "mesh/validate.hpp"
 #include "radiosity/memory_budget.hpp"
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 
 namespace py = pybind11;
 
@@ -70,7 +70,7 @@ py::dict camera_dict(const Camera& camera) {
   return d;
 }
 
-struct Solution {
+struct SolutionArrays {
   py::array vertices_;
   py::array faces_;
   py::array radiance_;
@@ -103,7 +103,7 @@ struct StoredMesh {
 using Maybe = std::optional<double>;
 using MaybeInt = std::optional<int>;
 
-Solution solve(const std::filesystem::path& path, const std::string& method, Maybe eps_pixel, Maybe eps_link,
+SolutionArrays solve(const std::filesystem::path& path, const std::string& method, Maybe eps_pixel, Maybe eps_link,
                Maybe eps_vertex, Maybe vis_threshold, Maybe link_power, Maybe eps_bf, Maybe min_edge,
                MaybeInt max_iterations, Maybe tolerance, std::size_t max_links, std::optional<std::size_t> max_memory,
                MaybeInt visibility_samples, Maybe max_edge, Maybe min_angle, Maybe crease_angle,
@@ -148,7 +148,7 @@ Solution solve(const std::filesystem::path& path, const std::string& method, May
   LoadOptions load_options;
   load_options.crease_angle_deg = crease_angle;
   std::vector<std::string> warnings;
-  SceneSolution solution;
+  lhr::Solution solution;
   {
     py::gil_scoped_release release;
     std::optional<tbb::global_control> thread_limit;
@@ -164,16 +164,16 @@ Solution solve(const std::filesystem::path& path, const std::string& method, May
     settings.meshing.max_edge = max_edge.value_or(scene.settings.max_edge.value_or(default_max_edge(scene)));
     if (min_angle) settings.meshing.min_angle_deg = *min_angle;
     check_meshing_options(settings.meshing, OptionStyle::kKeyword);
-    ToneMapChoice& tone = settings.tone;
-    tone = tone_choice_from_scene(scene.settings.tone_map, OptionStyle::kKeyword);
+    ToneMapSettings& tone = settings.tone;
+    tone = scene.settings.tone_map;
     if (tone_map) tone.kind = tone_map_kind(*tone_map, OptionStyle::kKeyword);
     tone.world_adaptation = adaptation.value_or(tone.world_adaptation);
     tone.units_to_cd_m2 = units_to_cd.value_or(tone.units_to_cd_m2);
-    tone.linear_white = white.value_or(tone.linear_white);
+    tone.white = white.value_or(tone.white);
     tone.display_max_cd_m2 = display_max.value_or(tone.display_max_cd_m2);
     tone.max_contrast = max_contrast.value_or(tone.max_contrast);
     tone.gamma = gamma.value_or(tone.gamma);
-    check_tone_choice(tone, OptionStyle::kKeyword);
+    check_tone_settings(tone, OptionStyle::kKeyword);
     for (std::string& w : scene_warnings(scene)) warnings.push_back(std::move(w));
     solution = solve_scene(scene, settings, [&](int, double) { check_signals(); });
     for (std::string& w : solution_warnings(settings, solution, OptionStyle::kKeyword)) {
@@ -187,7 +187,7 @@ Solution solve(const std::filesystem::path& path, const std::string& method, May
   // No files are written, so there is no "output" phase; the process's peak
   // memory is the interpreter's, not the solve's, and is left out.
   doc["seconds"]["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  Solution out;
+  SolutionArrays out;
   out.vertices_ = rows_of_three<double>(mesh.points);
   out.faces_ = rows_of_three<std::int64_t>(mesh.triangles);
   out.radiance_ = rows_of_three<double>(mesh.radiance);
@@ -247,16 +247,13 @@ LoadedScene load(const std::filesystem::path& path, Maybe crease_angle) {
   out.camera_ = scene.camera ? py::object(camera_dict(*scene.camera)) : py::object(py::none());
   const ToneMapSettings& tone = scene.settings.tone_map;
   py::dict tone_map;
-  const auto put = [&tone_map](const char* key, const auto& value) {
-    if (value) tone_map[key] = *value;
-  };
-  put("kind", tone.kind);
-  put("world_adaptation", tone.world_adaptation);
-  put("units_to_cd_m2", tone.units_to_cd_m2);
-  put("display_max_cd_m2", tone.display_max_cd_m2);
-  put("max_contrast", tone.max_contrast);
-  put("gamma", tone.gamma);
-  put("white", tone.white);
+  tone_map["kind"] = tone_map_kind_name(tone.kind);
+  tone_map["world_adaptation"] = tone.world_adaptation;
+  tone_map["units_to_cd_m2"] = tone.units_to_cd_m2;
+  tone_map["display_max_cd_m2"] = tone.display_max_cd_m2;
+  tone_map["max_contrast"] = tone.max_contrast;
+  tone_map["gamma"] = tone.gamma;
+  tone_map["white"] = tone.white;
   out.settings_["max_edge"] = py::cast(scene.settings.max_edge);
   out.settings_["crease_angle_deg"] = py::cast(scene.settings.crease_angle_deg);
   out.settings_["tone_map"] = tone_map;
@@ -308,18 +305,18 @@ PYBIND11_MODULE(lhr, m) {
     }
   });
 
-  py::class_<Solution>(m, "Solution", "The exported mesh of a solve and its statistics.")
-      .def_readonly("vertices", &Solution::vertices_, "N x 3 float64: vertex positions, all surfaces in one mesh")
-      .def_readonly("faces", &Solution::faces_, "M x 3 int64: triangles, counter-clockwise from the front")
-      .def_readonly("radiance", &Solution::radiance_,
+  py::class_<SolutionArrays>(m, "Solution", "The exported mesh of a solve and its statistics.")
+      .def_readonly("vertices", &SolutionArrays::vertices_, "N x 3 float64: vertex positions, all surfaces in one mesh")
+      .def_readonly("faces", &SolutionArrays::faces_, "M x 3 int64: triangles, counter-clockwise from the front")
+      .def_readonly("radiance", &SolutionArrays::radiance_,
                     "N x 3 float64: linear radiance per vertex, in the units of the scene's emission Ke")
-      .def_readonly("colors", &Solution::colors_,
+      .def_readonly("colors", &SolutionArrays::colors_,
                     "N x 3 uint8: display colour per vertex, tone-mapped and gamma-encoded (not linear)")
-      .def_readonly("stats", &Solution::stats_,
+      .def_readonly("stats", &SolutionArrays::stats_,
                     "dict: what `lhr solve` writes to stats.json (without seconds.output and peak_memory_mib)")
-      .def_readonly("warnings", &Solution::warnings_,
+      .def_readonly("warnings", &SolutionArrays::warnings_,
                     "list of str: what `lhr solve` prints as warnings (loading, budgets, convergence)")
-      .def("__repr__", [](const Solution& s) {
+      .def("__repr__", [](const SolutionArrays& s) {
         return "<lhr.Solution " + std::to_string(s.vertices_.shape(0)) + " vertices, " +
                std::to_string(s.faces_.shape(0)) + " triangles>";
       });
@@ -337,7 +334,9 @@ PYBIND11_MODULE(lhr, m) {
       .def_readonly("camera", &LoadedScene::camera_,
                     "dict (eye, target, up, fov_y_deg, width, height): the file's camera, else one framing the "
                     "whole scene, as solve uses")
-      .def_readonly("settings", &LoadedScene::settings_, "dict: the file's max_edge, crease_angle_deg, tone_map")
+      .def_readonly("settings", &LoadedScene::settings_,
+                    "dict: the file's max_edge and crease_angle_deg (None when absent), and tone_map with every "
+                    "key (the defaults with the file's block over them)")
       .def_readonly("warnings", &LoadedScene::warnings_, "list of str: what was accepted but is worth knowing")
       .def_readonly("dropped_zero_area_faces", &LoadedScene::dropped_zero_area_faces_)
       .def("__repr__", [](const LoadedScene& s) {

@@ -10,7 +10,7 @@
 #include <lhr/io/scene_loader.hpp>
 #include <lhr/mesh/initial_mesh.hpp>
 #include <lhr/radiosity/linear_solver.hpp>
-#include <lhr/radiosity/scene_model.hpp>
+#include <lhr/radiosity/meshed_scene.hpp>
 
 namespace {
 
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
     // Coarser than the default: this checks that the package links and runs,
     // not the accuracy of the solution.
     meshing.max_edge = 2.0 * lhr::default_max_edge(loaded.scene);
-    lhr::SceneModel model(loaded.scene, meshing);
+    lhr::MeshedScene model(loaded.scene, meshing);
 
     lhr::LinearOptions options;
     options.eps_link = 100.0;

@@ -40,6 +40,16 @@ def test_load_bare_obj_gets_a_framing_camera():
     np.testing.assert_allclose(scene.camera["target"], centre, rtol=1e-6)
 
 
+def test_load_scene_tone_map_is_the_defaults_with_the_files_block_over_them(tmp_path):
+    scene_file = tmp_path / "box.scene.json"
+    scene_file.write_text('{"mesh": "%s", "tone_map": {"kind": "linear", "gamma": 1.8}}'
+                          % CORNELL.with_name("cornell.obj").as_posix())
+    tone = lhr.load_scene(scene_file).settings["tone_map"]
+    assert tone == {"kind": "linear", "world_adaptation": 0.0, "units_to_cd_m2": 1.0,
+                    "display_max_cd_m2": 100.0, "max_contrast": 100.0, "gamma": 1.8, "white": 0.0}
+    assert lhr.load_scene(CORNELL).settings["tone_map"]["kind"] == "tumblin-rushmeier"
+
+
 def test_load_scene_missing_file_names_it(tmp_path):
     with pytest.raises(lhr.InputError, match="absent.obj"):
         lhr.load_scene(tmp_path / "absent.obj")

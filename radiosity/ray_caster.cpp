@@ -1,4 +1,4 @@
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 
 #include <embree3/rtcore.h>
 
@@ -104,7 +104,7 @@ void occluded_packets(RTCScene scene, std::span<const ShadowRay> rays, std::span
 
 }  // namespace
 
-RayScene::RayScene(const std::vector<const TriMesh*>& surfaces) {
+RayCaster::RayCaster(const std::vector<const TriMesh*>& surfaces) {
   device_ = rtcNewDevice("threads=0");
   if (!device_) throw std::runtime_error("cannot create an Embree device");
   scene_ = rtcNewScene(device_);
@@ -144,12 +144,12 @@ RayScene::RayScene(const std::vector<const TriMesh*>& surfaces) {
   epsilon_ = kRelativeEpsilon * std::max({diagonal_, magnitude, 1e-30});
 }
 
-RayScene::~RayScene() {
+RayCaster::~RayCaster() {
   if (scene_) rtcReleaseScene(scene_);
   if (device_) rtcReleaseDevice(device_);
 }
 
-bool RayScene::occluded(const Vec3& from, const Vec3& to) const {
+bool RayCaster::occluded(const Vec3& from, const Vec3& to) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = make_segment_ray(from, to);
@@ -157,7 +157,7 @@ bool RayScene::occluded(const Vec3& from, const Vec3& to) const {
   return ray.tfar < 0.0f;  // Embree marks a blocked ray with tfar = -inf
 }
 
-void RayScene::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) const {
+void RayCaster::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) const {
   // Measured on the Cornell box (BENCHMARKS.md): a link's rays (k² ≤ 64,
   // between two elements) go fastest in packets of 16, one large batch of
   // unrelated rays as a stream.
@@ -165,8 +165,8 @@ void RayScene::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t>
   occluded(rays, blocked, rays.size() <= kPacketBatch ? ShadowQuery::kPacket16 : ShadowQuery::kStream);
 }
 
-void RayScene::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked, ShadowQuery query) const {
-  if (blocked.size() < rays.size()) throw std::invalid_argument("RayScene::occluded: output too short");
+void RayCaster::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked, ShadowQuery query) const {
+  if (blocked.size() < rays.size()) throw std::invalid_argument("RayCaster::occluded: output too short");
   switch (query) {
     case ShadowQuery::kSingle:
       for (std::size_t i = 0; i < rays.size(); ++i) blocked[i] = occluded(rays[i].from, rays[i].to) ? 1 : 0;
@@ -186,7 +186,7 @@ void RayScene::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t>
   }
 }
 
-std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& direction) const {
+std::optional<RayHit> RayCaster::intersect(const Vec3& origin, const Vec3& direction) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rayhit{};

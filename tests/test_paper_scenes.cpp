@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "io/scene_generator.hpp"
+#include "io/paper_scenes.hpp"
 #include "io/scene_writer.hpp"
 #include "io/scene_loader.hpp"
 #include "mesh/surfaces.hpp"
@@ -174,8 +174,8 @@ int emitter_groups(const PolygonSoup& soup) {
 class GeneratedScenes : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(GeneratedScenes, IsDeterministic) {
-  const GeneratedScene a = generate_scene(GetParam());
-  const GeneratedScene b = generate_scene(GetParam());
+  const PaperScene a = make_paper_scene(GetParam());
+  const PaperScene b = make_paper_scene(GetParam());
   ASSERT_EQ(a.soup.points.size(), b.soup.points.size());
   ASSERT_EQ(a.soup.faces.size(), b.soup.faces.size());
   for (std::size_t i = 0; i < a.soup.points.size(); ++i) EXPECT_EQ(a.soup.points[i], b.soup.points[i]);
@@ -185,7 +185,7 @@ TEST_P(GeneratedScenes, IsDeterministic) {
 }
 
 TEST_P(GeneratedScenes, FacesAreValidPolygons) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   ASSERT_FALSE(s.soup.faces.empty());
   for (const Vec3& p : s.soup.points) {
     for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(p[k]));
@@ -221,7 +221,7 @@ TEST_P(GeneratedScenes, FacesAreValidPolygons) {
 }
 
 TEST_P(GeneratedScenes, HasEightDownwardLightsBelowTheCeiling) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   EXPECT_EQ(emitter_groups(s.soup), 8);
   for (const InputFace& f : s.soup.faces) {
     if (!s.soup.materials[f.material].is_emitter()) continue;
@@ -240,7 +240,7 @@ TEST_P(GeneratedScenes, HasEightDownwardLightsBelowTheCeiling) {
 // Room shells face their room, doorways and window recesses face into the
 // opening, furniture boxes face outward (group names say which is which).
 TEST_P(GeneratedScenes, FacesPointIntoOpenSpace) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   auto starts_with = [](const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; };
   auto contains = [](const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
@@ -281,7 +281,7 @@ TEST_P(GeneratedScenes, FacesPointIntoOpenSpace) {
 // some face, and from at least one point of every face it hits a front side
 // (points may be covered where furniture stands on or against the face).
 TEST_P(GeneratedScenes, IsClosedAndEveryFaceSeesAFront) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   // Interior points off the faces' symmetry lines, so rays do not run along
   // the edges of aligned boxes.
   const std::vector<std::vector<double>> weights{
@@ -309,7 +309,7 @@ TEST_P(GeneratedScenes, IsClosedAndEveryFaceSeesAFront) {
 
 // Seats face what they are set at: the backrest is farther from it.
 TEST(SceneGenerator, TwoRoomsSeatsFaceTheirTables) {
-  const GeneratedScene s = generate_scene("two-rooms");
+  const PaperScene s = make_paper_scene("two-rooms");
   const std::vector<std::array<std::string, 3>> seats{
       {"chair1_seat", "chair1_back", "dining_table_top"}, {"chair2_seat", "chair2_back", "dining_table_top"},
       {"chair3_seat", "chair3_back", "dining_table_top"}, {"chair4_seat", "chair4_back", "dining_table_top"},
@@ -326,7 +326,7 @@ TEST(SceneGenerator, TwoRoomsSeatsFaceTheirTables) {
 }
 
 TEST_P(GeneratedScenes, CameraIsInsideRoomOneLookingIntoIt) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   const Aabb floor = group_bounds(s.soup, "room1_floor");
   const Aabb ceiling = group_bounds(s.soup, "room1_ceiling");
   const Vec3& eye = s.camera.eye;
@@ -343,7 +343,7 @@ TEST_P(GeneratedScenes, CameraIsInsideRoomOneLookingIntoIt) {
 
 // docs/design.md §3 surfaces counted independently of split_into_surfaces.
 TEST_P(GeneratedScenes, ReferenceSurfaceCountNearThePaper) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   const int paper = GetParam() == "two-rooms" ? kTwoRoomsPaperSurfaces : kFourRoomsPaperSurfaces;
   const int count = reference_surface_count(s.soup, kDefaultCreaseAngleDeg);
   EXPECT_NEAR(count, paper, 0.1 * paper);
@@ -351,7 +351,7 @@ TEST_P(GeneratedScenes, ReferenceSurfaceCountNearThePaper) {
 
 // Depends on split_into_surfaces (mesh/surfaces.cpp).
 TEST_P(GeneratedScenes, SplitIntoSurfacesMatchesReferenceAndPaper) {
-  const GeneratedScene s = generate_scene(GetParam());
+  const PaperScene s = make_paper_scene(GetParam());
   const int paper = GetParam() == "two-rooms" ? kTwoRoomsPaperSurfaces : kFourRoomsPaperSurfaces;
   const SurfaceSplit split = split_into_surfaces(s.soup, kDefaultCreaseAngleDeg);
   const int count = static_cast<int>(split.surfaces.size());
@@ -363,7 +363,7 @@ TEST_P(GeneratedScenes, SplitIntoSurfacesMatchesReferenceAndPaper) {
 // Depends on load_scene and load_polygon_soup (io/scene_loader.cpp).
 TEST_P(GeneratedScenes, WrittenFilesLoadBack) {
   const std::string name = GetParam();
-  const GeneratedScene s = generate_scene(name);
+  const PaperScene s = make_paper_scene(name);
   const std::filesystem::path dir = test::fresh_dir("scene_files_" + name);
   write_scene_files(s, dir, name);
   for (const char* ext : {".obj", ".mtl", ".scene.json"}) {
@@ -409,9 +409,9 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, GeneratedScenes, ::testing::Values("two-ro
                          });
 
 TEST(SceneGenerator, ListsBothScenesAndRejectsUnknownNames) {
-  EXPECT_EQ(generated_scene_names(), (std::vector<std::string>{"two-rooms", "four-rooms"}));
+  EXPECT_EQ(paper_scene_names(), (std::vector<std::string>{"two-rooms", "four-rooms"}));
   try {
-    generate_scene("five-rooms");
+    make_paper_scene("five-rooms");
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("five-rooms"), std::string::npos);
@@ -422,7 +422,7 @@ TEST(SceneGenerator, ListsBothScenesAndRejectsUnknownNames) {
 TEST(SceneGenerator, MissingOutputDirectoryIsNamed) {
   const std::filesystem::path missing = test::fresh_dir("missing_parent") / "does-not-exist";
   try {
-    write_scene_files(generate_scene("four-rooms"), missing, "four-rooms");
+    write_scene_files(make_paper_scene("four-rooms"), missing, "four-rooms");
     FAIL() << "expected std::runtime_error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();

@@ -37,14 +37,14 @@ enum class ShadowQuery {
   kPacket16,  // rtcOccluded16 per 16 rays
 };
 
-class RayScene {
+class RayCaster {
  public:
   // One Embree geometry per surface mesh (geometry id = surface index).
   // Built in robust mode: rays grazing shared edges must not leak.
-  explicit RayScene(const std::vector<const TriMesh*>& surfaces);
-  ~RayScene();
-  RayScene(const RayScene&) = delete;
-  RayScene& operator=(const RayScene&) = delete;
+  explicit RayCaster(const std::vector<const TriMesh*>& surfaces);
+  ~RayCaster();
+  RayCaster(const RayCaster&) = delete;
+  RayCaster& operator=(const RayCaster&) = delete;
 
   // Offset that lifts ray end points off their surfaces: large enough for
   // Embree's single-precision hits at the scene's coordinates, small against

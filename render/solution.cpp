@@ -1,4 +1,4 @@
-#include "render/scene_solution.hpp"
+#include "render/solution.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "radiosity/memory_budget.hpp"
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 #include "radiosity/solver_frame.hpp"
 #include "render/gouraud.hpp"
 
@@ -29,14 +29,14 @@ struct MethodRun {
   bool memory_budget_reached = false;
 };
 
-MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
+MethodRun run_linear(MeshedScene& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
                      const std::function<void(int, double)>& progress) {
   LinearOptions options = settings.linear;
   // Importance and the oracle's adaptation come from what the camera sees.
   std::vector<const TriMesh*> initial;
   for (int s = 0; s < model.num_surfaces(); ++s) initial.push_back(&model.hierarchy(s).mesh());
   options.view = view_samples(settings.camera, initial);
-  const ToneMapChoice tone = settings.tone;
+  const ToneMapSettings tone = settings.tone;
   options.tone_map = [tone](double log_average, double brightest) {
     return make_tone_map(tone, log_average, brightest);
   };
@@ -65,7 +65,7 @@ MethodRun run_linear(SceneModel& model, const SolveSettings& settings, std::vect
   return run;
 }
 
-MethodRun run_classical(SceneModel& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
+MethodRun run_classical(MeshedScene& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
                         const std::function<void(int, double)>& progress) {
   const ClassicalOptions& options = settings.classical;
   ClassicalSolver solver(model, options);
@@ -156,7 +156,7 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
   return {"the scene has no emitter; the result is black"};
 }
 
-std::vector<std::string> solution_warnings(const SolveSettings& settings, const SceneSolution& solution,
+std::vector<std::string> solution_warnings(const SolveSettings& settings, const Solution& solution,
                                            OptionStyle style) {
   std::vector<std::string> warnings;
   if (solution.link_budget_reached) {
@@ -180,11 +180,11 @@ std::vector<std::string> solution_warnings(const SolveSettings& settings, const 
   return warnings;
 }
 
-SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
+Solution solve_scene(const Scene& scene, const SolveSettings& settings,
                           const std::function<void(int, double)>& progress) {
   double seconds_meshing = 0.0, seconds_solve = 0.0, seconds_view = 0.0;
   PhaseTimer meshing(seconds_meshing);
-  SceneModel model(scene, settings.meshing);
+  MeshedScene model(scene, settings.meshing);
   meshing.stop();
 
   std::vector<SurfaceSolution> surfaces(model.num_surfaces());
@@ -194,7 +194,7 @@ SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
   solving.stop();
 
   PhaseTimer viewing(seconds_view);
-  SceneSolution out;
+  Solution out;
   out.view = make_solution_view(surfaces, settings.camera, settings.tone);
   out.view.export_mesh.colour_meaning =
       "display colour, tone-mapped " + out.view.tone_map->describe() + ", not linear";

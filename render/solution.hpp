@@ -25,11 +25,11 @@ struct SolveSettings {
   MeshingOptions meshing;
   LinearOptions linear;  // its view and tone map are filled from `camera` and `tone`
   ClassicalOptions classical;
-  ToneMapChoice tone;
+  ToneMapSettings tone;
   Camera camera;
 };
 
-struct SceneSolution {
+struct Solution {
   SolutionView view;
   // stats.json: method, parameters, sizes, bytes, seconds per phase. The
   // "seconds" object and peak memory vary from run to run; nothing else does.
@@ -57,11 +57,11 @@ inline constexpr std::size_t kImageBytesPerPixel = 64;
 // after (a budget stopped refinement, the iteration limit came before
 // convergence), one line each without a prefix.
 std::vector<std::string> scene_warnings(const Scene& scene);
-std::vector<std::string> solution_warnings(const SolveSettings& settings, const SceneSolution& solution,
+std::vector<std::string> solution_warnings(const SolveSettings& settings, const Solution& solution,
                                            OptionStyle style);
 
 // progress(iteration, largest change) after each solver iteration.
-SceneSolution solve_scene(const Scene& scene, const SolveSettings& settings,
+Solution solve_scene(const Scene& scene, const SolveSettings& settings,
                           const std::function<void(int, double)>& progress = {});
 
 }  // namespace lhr

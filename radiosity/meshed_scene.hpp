@@ -11,20 +11,20 @@
 #include "mesh/hierarchy.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "mesh/scene.hpp"
-#include "radiosity/ray_scene.hpp"
+#include "radiosity/ray_caster.hpp"
 
 namespace lhr {
 
-class SceneModel {
+class MeshedScene {
  public:
-  SceneModel(const Scene& scene, const MeshingOptions& meshing);
+  MeshedScene(const Scene& scene, const MeshingOptions& meshing);
 
   const Scene& scene() const { return *scene_; }
   int num_surfaces() const { return static_cast<int>(hierarchies_.size()); }
   SurfaceHierarchy& hierarchy(int s) { return hierarchies_[s]; }
   const SurfaceHierarchy& hierarchy(int s) const { return hierarchies_[s]; }
   const Material& material(int s) const { return scene_->materials[scene_->surfaces[s].material]; }
-  const RayScene& rays() const { return *rays_; }
+  const RayCaster& rays() const { return *rays_; }
   double max_edge() const { return max_edge_; }
   double surface_area(int s) const { return surface_area_[s]; }
 
@@ -43,7 +43,7 @@ class SceneModel {
   const Scene* scene_;
   std::vector<SurfaceHierarchy> hierarchies_;
   std::vector<double> surface_area_;
-  std::unique_ptr<RayScene> rays_;
+  std::unique_ptr<RayCaster> rays_;
   double max_edge_ = 0.0;
 };
 

@@ -1,4 +1,4 @@
-#include "io/scene_generator.hpp"
+#include "io/paper_scenes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -382,7 +382,7 @@ void add_cabinet(SoupBuilder& b, const Palette& pal, const std::string& name, co
 }
 
 // Paper §6 scene 1: two rooms joined by a doorway, four lights each, furniture.
-GeneratedScene two_rooms() {
+PaperScene two_rooms() {
   constexpr double kWidth = 6.0;  // x
   constexpr double kDepth = 5.0;  // z
   constexpr double kHeight = 2.8;
@@ -434,7 +434,7 @@ GeneratedScene two_rooms() {
   add_placed_box(b, {Vec3(x0 + 0.45, 0, 3.7), 3}, "tv", {Vec3(-0.35, 0.5, -0.04), Vec3(0.35, 0.95, 0.04)},
                  kAllFaces & ~kNegY, pal.dark_wood);
 
-  GeneratedScene scene;
+  PaperScene scene;
   scene.soup = b.take();
   // In room 1, looking past the dining table through the doorway into room 2.
   scene.camera.eye = Vec3(0.7, 1.6, 3.9);
@@ -447,7 +447,7 @@ GeneratedScene two_rooms() {
 }
 
 // Paper §6 scene 2: four rooms in a 2x2 plan, two lights and one table each.
-GeneratedScene four_rooms() {
+PaperScene four_rooms() {
   constexpr double kWidth = 5.0;  // x
   constexpr double kDepth = 4.0;  // z
   constexpr double kHeight = 2.7;
@@ -493,7 +493,7 @@ GeneratedScene four_rooms() {
     add_doorway(b, pal, "door_z" + std::to_string(k + 1), z_doors[k], 2);
   }
 
-  GeneratedScene scene;
+  PaperScene scene;
   scene.soup = b.take();
   // Inside room 1 (x, z in [0,5] x [0,4]), looking at its table: the other
   // three rooms are hidden except through a doorway.
@@ -508,13 +508,13 @@ GeneratedScene four_rooms() {
 
 }  // namespace
 
-std::vector<std::string> generated_scene_names() { return {"two-rooms", "four-rooms"}; }
+std::vector<std::string> paper_scene_names() { return {"two-rooms", "four-rooms"}; }
 
-GeneratedScene generate_scene(const std::string& name) {
+PaperScene make_paper_scene(const std::string& name) {
   if (name == "two-rooms") return two_rooms();
   if (name == "four-rooms") return four_rooms();
   std::string names;
-  for (const std::string& n : generated_scene_names()) names += (names.empty() ? "" : ", ") + n;
+  for (const std::string& n : paper_scene_names()) names += (names.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown scene '" + name + "' (known: " + names + ")");
 }
 

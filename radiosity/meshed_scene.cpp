@@ -1,10 +1,10 @@
-#include "radiosity/scene_model.hpp"
+#include "radiosity/meshed_scene.hpp"
 
 #include "radiosity/sampling.hpp"
 
 namespace lhr {
 
-SceneModel::SceneModel(const Scene& scene, const MeshingOptions& meshing)
+MeshedScene::MeshedScene(const Scene& scene, const MeshingOptions& meshing)
     : scene_(&scene), max_edge_(meshing.max_edge) {
   hierarchies_.reserve(scene.surfaces.size());
   const double tolerance = contact_tolerance(scene.surfaces);
@@ -19,33 +19,33 @@ SceneModel::SceneModel(const Scene& scene, const MeshingOptions& meshing)
     for (std::size_t f = 0; f < hierarchies_[s].num_roots(); ++f) total += area(s, static_cast<NodeId>(f));
     surface_area_.push_back(total);
   }
-  rays_ = std::make_unique<RayScene>(meshes);
+  rays_ = std::make_unique<RayCaster>(meshes);
 }
 
-std::array<Vec3, 3> SceneModel::triangle(int s, NodeId n) const {
+std::array<Vec3, 3> MeshedScene::triangle(int s, NodeId n) const {
   const SurfaceHierarchy& h = hierarchies_[s];
   const auto& c = h.corners(n);
   return {h.point(c[0]), h.point(c[1]), h.point(c[2])};
 }
 
-double SceneModel::area(int s, NodeId n) const {
+double MeshedScene::area(int s, NodeId n) const {
   const auto t = triangle(s, n);
   return 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
 }
 
-Vec3 SceneModel::normal(int s, NodeId n) const {
+Vec3 MeshedScene::normal(int s, NodeId n) const {
   const auto t = triangle(s, n);
   const Vec3 c = OpenMesh::cross(t[1] - t[0], t[2] - t[0]);
   const double len = c.norm();
   return len > 0 ? c / len : Vec3(0, 0, 0);
 }
 
-Vec3 SceneModel::centroid(int s, NodeId n) const {
+Vec3 MeshedScene::centroid(int s, NodeId n) const {
   const auto t = triangle(s, n);
   return (t[0] + t[1] + t[2]) / 3.0;
 }
 
-double SceneModel::enclosed_fraction(const Vec3& origin, const Vec3& n) const {
+double MeshedScene::enclosed_fraction(const Vec3& origin, const Vec3& n) const {
   const std::vector<Vec3> directions = hemisphere_probe_directions(n);
   int back = 0;
   for (const Vec3& d : directions) {

@@ -10,13 +10,13 @@
 
 namespace lhr {
 
-struct GeneratedScene {
+struct PaperScene {
   PolygonSoup soup;
   Camera camera;
 };
 
-std::vector<std::string> generated_scene_names();  // {"two-rooms", "four-rooms"}
+std::vector<std::string> paper_scene_names();  // {"two-rooms", "four-rooms"}
 // Throws std::invalid_argument for an unknown name.
-GeneratedScene generate_scene(const std::string& name);
+PaperScene make_paper_scene(const std::string& name);
 
 }  // namespace lhr

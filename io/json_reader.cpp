@@ -37,7 +37,9 @@ Rgb JsonReader::colour(const Json& value, const std::string& name) const {
     return Rgb(grey, grey, grey);
   }
   if (!value.is_array() || value.size() != 3) fail("\"" + name + "\" must be three numbers [r, g, b] or one number");
-  return vec3(value, name);
+  Rgb c;
+  for (int k = 0; k < 3; ++k) c[k] = number(value[k], name + "[" + std::to_string(k) + "]");
+  return c;
 }
 
 }  // namespace lhr

@@ -136,7 +136,7 @@ void write_mesh(AtomicOutputs& outputs, const std::filesystem::path& path, const
     const auto vh = om.add_vertex(mesh.points[v]);
     const auto c = mesh.colours.empty() ? kMissingColour : mesh.colours[v];
     om.set_color(vh, TriMesh::Color(c[0], c[1], c[2]));
-    const Rgb r = mesh.radiance.empty() ? Rgb(0.0) : mesh.radiance[v];
+    const Rgb r = mesh.radiance.empty() ? Rgb() : mesh.radiance[v];
     for (int ch = 0; ch < 3; ++ch) om.property(channel[ch], vh) = static_cast<float>(r[ch]);
     if (!mesh.radiance_stderr.empty()) om.property(stderr_channel, vh) = static_cast<float>(mesh.radiance_stderr[v]);
   }

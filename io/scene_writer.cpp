@@ -22,6 +22,7 @@ std::string number(double x) {
 }
 
 std::string triple(const Vec3& v) { return number(v[0]) + " " + number(v[1]) + " " + number(v[2]); }
+std::string triple(const Rgb& c) { return number(c[0]) + " " + number(c[1]) + " " + number(c[2]); }
 
 void write_text_file(AtomicOutputs& outputs, const std::filesystem::path& target, const std::string& text) {
   outputs.stage(target, [&](std::ostream& out) { out << text; });

@@ -13,7 +13,7 @@ void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rg
   const std::size_t offset = out.points.size();
   // Keep per-vertex arrays aligned with points even if earlier surfaces had
   // no colours: missing colours are grey, missing radiance is zero.
-  out.radiance.resize(offset, Rgb(0.0));
+  out.radiance.resize(offset, Rgb());
   const bool colours = mesh.has_vertex_colors() || !out.colours.empty();
   if (colours) out.colours.resize(offset, kMissingColour);
 
@@ -21,7 +21,7 @@ void append_to_export(ExportMesh& out, const TriMesh& mesh, const std::vector<Rg
   for (const auto vh : mesh.vertices()) {  // skips deleted vertices
     index[vh.idx()] = static_cast<int>(out.points.size());
     out.points.push_back(mesh.point(vh));
-    out.radiance.push_back(radiance.empty() ? Rgb(0.0) : radiance[vh.idx()]);
+    out.radiance.push_back(radiance.empty() ? Rgb() : radiance[vh.idx()]);
     if (colours) {
       if (mesh.has_vertex_colors()) {
         const auto c = mesh.color(vh);

@@ -4,11 +4,11 @@
 #include <OpenMesh/Core/Geometry/VectorT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include "mesh/rgb.hpp"
+
 namespace lhr {
 
 using Vec3 = OpenMesh::Vec3d;
-// RGB triple of linear quantities (reflectance, radiance).
-using Rgb = OpenMesh::Vec3d;
 
 struct MeshTraits : public OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;

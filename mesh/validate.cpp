@@ -64,13 +64,16 @@ class Report {
   std::vector<Entry> entries_;  // in order of first occurrence, so reports group by kind
 };
 
-bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+// Positions (Vec3) and radiances (Rgb) alike.
+template <typename Triple>
+bool finite(const Triple& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
 std::string vertex_at(int v) { return "vertex " + std::to_string(v); }
 std::string face_at(std::size_t f) { return "face " + std::to_string(f); }
 std::string edge_at(int a, int b) { return "edge (" + std::to_string(a) + "," + std::to_string(b) + ")"; }
 
-std::string format_point(const Vec3& p) {
+template <typename Triple>
+std::string format_point(const Triple& p) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", p[0], p[1], p[2]);
   return buf;

@@ -18,12 +18,6 @@
 
 namespace lhr {
 
-namespace {
-
-double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }
-
-}  // namespace
-
 int LinearSolver::initial_ancestors(const std::vector<std::array<VertexId, 2>>& parents, VertexId v,
                                     std::array<VertexId, 3>& ancestors) {
   int found = 0;

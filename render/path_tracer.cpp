@@ -48,9 +48,6 @@ constexpr double kLocateReach = 4.0;
 // scene lies much further off.
 constexpr double kFallbackReach = 1000.0;
 
-Rgb times(const Rgb& a, const Rgb& b) { return Rgb(a[0] * b[0], a[1] * b[1], a[2] * b[2]); }
-double max_channel(const Rgb& c) { return std::max({c[0], c[1], c[2]}); }
-
 // Counter-based stream: each draw hashes (key, counter), so a sample's
 // numbers depend only on (seed, pixel, sample index), never on thread order.
 class SampleStream {
@@ -280,9 +277,9 @@ struct PathTracer::Impl {
       if (!(max_channel(kd) > 0)) break;
       const Vec3& n = tri->normal;
       const Vec3 origin = bounce == 0 ? first_origin : ray_origin(x, *tri);
-      sum += times(throughput, times(kd, direct(x, origin, n, rng)));
+      sum += throughput * (kd * direct(x, origin, n, rng));
       // Cosine-weighted sampling: BRDF·cos/pdf = Kd.
-      throughput = times(throughput, kd);
+      throughput = throughput * kd;
       const double survive = std::min(kMaxSurvival, max_channel(throughput));
       if (!(rng.next() < survive)) break;
       throughput /= survive;
@@ -302,7 +299,7 @@ struct PathTracer::Impl {
         const double p_bounce = cos_x / M_PI;
         const double d2 = hit->distance * hit->distance;
         const double weight = p_bounce / (p_bounce + emitter_density(hit->triangle, d2, cos_y));
-        sum += times(throughput, materials[tri->material].emission) * weight;
+        sum += throughput * materials[tri->material].emission * weight;
       }
     }
     return sum;

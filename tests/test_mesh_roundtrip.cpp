@@ -48,7 +48,9 @@ ExportMesh sample_export() {
   return m;
 }
 
-void expect_near_relative(const Vec3& got, const Vec3& want, double rel, const std::string& what) {
+// Points (Vec3) and radiances (Rgb) alike.
+template <typename Triple>
+void expect_near_relative(const Triple& got, const Triple& want, double rel, const std::string& what) {
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(got[c], want[c], rel * std::max(1.0, std::abs(want[c]))) << what << " component " << c;
   }
@@ -251,7 +253,7 @@ TEST(MeshRoundtrip, OpenMeshReadsColoursAndRadiance) {
       ASSERT_TRUE(om.get_property_handle(b, "radiance_b"));
       for (const auto vh : om.vertices()) {
         const auto v = static_cast<std::size_t>(vh.idx());
-        expect_near_relative(Vec3(om.property(r, vh), om.property(g, vh), om.property(b, vh)), m.radiance[v], 1e-6,
+        expect_near_relative(Rgb(om.property(r, vh), om.property(g, vh), om.property(b, vh)), m.radiance[v], 1e-6,
                              "radiance " + std::to_string(v));
       }
     }
@@ -285,7 +287,7 @@ TEST(MeshRoundtrip, MissingColoursAreGreyAndMissingRadianceIsZero) {
   write_mesh(dir / "m.ply", m);
   const RawMesh raw = read_raw_mesh(dir / "m.ply");
   ASSERT_EQ(raw.radiance.size(), m.points.size());
-  for (const Rgb& r : raw.radiance) EXPECT_EQ(r, Rgb(0.0));
+  for (const Rgb& r : raw.radiance) EXPECT_EQ(r, Rgb());
   TriMesh om;
   om.request_vertex_colors();
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor;
@@ -367,9 +369,9 @@ TEST(AppendToExport, OffsetsIndicesAndFillsRadiance) {
   ASSERT_EQ(out.triangles.size(), 3u);
   ASSERT_EQ(out.radiance.size(), 7u);
   EXPECT_TRUE(out.colours.empty());
-  for (int v = 0; v < 3; ++v) EXPECT_EQ(out.radiance[v], Rgb(0.0));
+  for (int v = 0; v < 3; ++v) EXPECT_EQ(out.radiance[v], Rgb());
   for (int v = 0; v < 4; ++v) {
-    EXPECT_EQ(out.radiance[3 + v], Rgb(v + 1.0));
+    EXPECT_EQ(out.radiance[3 + v], Rgb(v + 1.0, v + 1.0, v + 1.0));
     EXPECT_EQ(out.points[3 + v], b.point(OpenMesh::VertexHandle(v)));
   }
   // b's faces reference b's vertices, shifted past a's three.

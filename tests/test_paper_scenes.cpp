@@ -156,7 +156,7 @@ Hit cast_ray(const PolygonSoup& soup, const Vec3& origin, const Vec3& dir, doubl
 
 // Equal to single precision: MTL numbers pass through tinyobjloader's own
 // (not correctly rounded) parser.
-bool close(const Vec3& a, const Vec3& b) {
+bool close(const Rgb& a, const Rgb& b) {
   for (int k = 0; k < 3; ++k) {
     if (std::abs(a[k] - b[k]) > 1e-6 * std::max(1.0, std::abs(b[k]))) return false;
   }

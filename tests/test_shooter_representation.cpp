@@ -199,7 +199,7 @@ TEST(ShooterSpread, LinearRadianceIsItsOwnProjection) {
   LinearShooterValues values;
   project_linear_nodes(h, L, node_areas(h), values);
   for (NodeId n = 0; n < static_cast<NodeId>(h.num_nodes()); ++n) {
-    EXPECT_LT(values.spread[n].max(), 1e-12);
+    EXPECT_LT(max_channel(values.spread[n]), 1e-12);
     for (int l = 0; l < 3; ++l) {
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(values.corners[n][l][c], L[h.corners(n)[l]][c], 1e-12) << "node " << n;
     }
@@ -255,7 +255,7 @@ TEST(ShooterSpread, AHotSpotInsideATriangleIsCarriedByItsProjectionNotItsCorners
   L[hot] = Rgb(5, 5, 5);
   LinearShooterValues values;
   project_linear_nodes(h, L, area, values);
-  for (VertexId v : h.corners(0)) EXPECT_EQ(L[v].max(), 0.0);
+  for (VertexId v : h.corners(0)) EXPECT_EQ(max_channel(L[v]), 0.0);
   double integral = 0.0;
   for (NodeId leaf : h.leaves()) {
     for (VertexId v : h.corners(leaf)) integral += area[leaf] / 3.0 * L[v][0];

@@ -54,6 +54,7 @@ py::array_t<T> rows_of_three(const std::vector<Row>& rows) {
 }
 
 py::object triple(const Vec3& v) { return py::cast(std::array<double, 3>{v[0], v[1], v[2]}); }
+py::object triple(const Rgb& c) { return py::cast(std::array<double, 3>{c[0], c[1], c[2]}); }
 
 // Through text: stats.json is what `lhr solve` writes, so the dict matches
 // json.load of that file key for key.

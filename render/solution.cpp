@@ -29,6 +29,33 @@ struct MethodRun {
   bool memory_budget_reached = false;
 };
 
+// What both methods do once their options are set: solve, take each
+// surface's conforming mesh with its radiance, and report the parameters and
+// budgets they share beside their own.
+template <class Solver, class Options>
+MethodRun run_method(MeshedScene& model, const Options& options, nlohmann::json parameters,
+                     std::vector<SurfaceSolution>& surfaces, const std::function<void(int, double)>& progress) {
+  Solver solver(model, options);
+  solver.solve(progress);
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
+    surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
+  }
+  const auto& st = solver.stats();
+  MethodRun run;
+  run.budget_reached = st.link_budget_reached;
+  run.memory_budget_reached = st.memory_budget_reached;
+  run.parameters = std::move(parameters);
+  run.parameters.update({{"min_edge", options.min_edge > 0 ? options.min_edge : model.max_edge() / 32.0},
+                         {"max_iterations", options.max_iterations},
+                         {"tolerance", options.tolerance},
+                         {"max_links", options.max_links},
+                         {"max_bytes", options.max_bytes},
+                         {"visibility_samples", options.visibility_samples}});
+  st.write_json(run.stats);
+  return run;
+}
+
 MethodRun run_linear(MeshedScene& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
                      const std::function<void(int, double)>& progress) {
   LinearOptions options = settings.linear;
@@ -40,53 +67,19 @@ MethodRun run_linear(MeshedScene& model, const SolveSettings& settings, std::vec
   options.tone_map = [tone](double log_average, double brightest) {
     return make_tone_map(tone, log_average, brightest);
   };
-  LinearSolver solver(model, options);
-  solver.solve(progress);
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
-    surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
-  }
-  const LinearStats& st = solver.stats();
-  MethodRun run;
-  run.budget_reached = st.link_budget_reached;
-  run.memory_budget_reached = st.memory_budget_reached;
-  run.parameters = {{"eps_pixel", options.eps_pixel},
-                    {"eps_link", options.eps_link},
-                    {"eps_vertex", options.eps_vertex},
-                    {"vis_threshold", options.vis_threshold},
-                    {"link_power", options.link_power},
-                    {"min_edge", options.min_edge > 0 ? options.min_edge : model.max_edge() / 32.0},
-                    {"max_iterations", options.max_iterations},
-                    {"tolerance", options.tolerance},
-                    {"max_links", options.max_links},
-                    {"max_bytes", options.max_bytes},
-                    {"visibility_samples", options.visibility_samples}};
-  st.write_json(run.stats);
-  return run;
+  return run_method<LinearSolver>(model, options,
+                                  {{"eps_pixel", options.eps_pixel},
+                                   {"eps_link", options.eps_link},
+                                   {"eps_vertex", options.eps_vertex},
+                                   {"vis_threshold", options.vis_threshold},
+                                   {"link_power", options.link_power}},
+                                  surfaces, progress);
 }
 
 MethodRun run_classical(MeshedScene& model, const SolveSettings& settings, std::vector<SurfaceSolution>& surfaces,
                         const std::function<void(int, double)>& progress) {
   const ClassicalOptions& options = settings.classical;
-  ClassicalSolver solver(model, options);
-  solver.solve(progress);
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    surfaces[s].mesh = model.hierarchy(s).conforming_mesh();
-    surfaces[s].radiance = solver.vertex_radiance(s, surfaces[s].mesh);
-  }
-  const ClassicalStats& st = solver.stats();
-  MethodRun run;
-  run.budget_reached = st.link_budget_reached;
-  run.memory_budget_reached = st.memory_budget_reached;
-  run.parameters = {{"eps_bf", options.eps_bf},
-                    {"min_edge", options.min_edge > 0 ? options.min_edge : model.max_edge() / 32.0},
-                    {"max_iterations", options.max_iterations},
-                    {"tolerance", options.tolerance},
-                    {"max_links", options.max_links},
-                    {"max_bytes", options.max_bytes},
-                    {"visibility_samples", options.visibility_samples}};
-  st.write_json(run.stats);
-  return run;
+  return run_method<ClassicalSolver>(model, options, {{"eps_bf", options.eps_bf}}, surfaces, progress);
 }
 
 }  // namespace

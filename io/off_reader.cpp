@@ -1,8 +1,10 @@
 #include "io/off_reader.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -17,14 +19,16 @@ namespace {
 namespace fs = std::filesystem;
 using text::parse_double;
 using text::parse_int;
+using text::Line;
 using text::show;
 
 
-// The colour components of one vertex or face, still as text.
+// The colour components of one vertex or face, still as text (views into
+// the file, which outlives the read).
 struct ColourTokens {
   int line = 0;
-  std::string what;  // "vertex 3", "face 0"
-  std::vector<std::string_view> tokens;
+  std::size_t count = 0;  // 0 (no colour), 3 or 4
+  std::array<std::string_view, 4> tokens;
 };
 
 // Geomview's OFF allows 3 or 4 components (RGB or RGBA, alpha ignored),
@@ -32,42 +36,37 @@ struct ColourTokens {
 // the specification says. Vertex colours are decided per file: a file whose
 // colours are written with a decimal point or an exponent anywhere is read
 // as floats throughout, so a float file's "1 0 0" is red, not near-black.
-std::vector<std::optional<Rgb>> decode_colours(const fs::path& path, const std::vector<ColourTokens>& colours,
-                                               std::size_t count, bool per_file) {
-  const auto has_float = [](const ColourTokens& c) {
-    return std::any_of(c.tokens.begin(), c.tokens.end(), [](std::string_view t) { return !parse_int(t); });
-  };
-  const bool file_floats = per_file && std::any_of(colours.begin(), colours.end(), has_float);
-  std::vector<std::optional<Rgb>> out(count);
-  for (std::size_t i = 0; i < colours.size(); ++i) {
-    const ColourTokens& c = colours[i];
-    if (c.tokens.empty()) continue;
-    const bool floats = per_file ? file_floats : has_float(c);
-    Rgb rgb;
-    for (std::size_t k = 0; k < c.tokens.size(); ++k) {
-      const std::optional<double> v = parse_double(c.tokens[k]);
-      const bool ok = v && (floats ? (*v >= 0.0 && *v <= 1.0) : (*v >= 0.0 && *v <= 255.0));
-      if (!ok) {
-        throw InputError(path, c.line,
-                         c.what + ": colour component " + show(c.tokens[k]) +
-                             (floats ? " is not a number in [0, 1] (colours with a decimal point are floats)"
-                                     : " is not an integer in 0..255"));
-      }
-      if (k < 3) rgb[k] = floats ? *v : *v / 255.0;
+bool written_as_float(const ColourTokens& c) {
+  return std::any_of(c.tokens.begin(), c.tokens.begin() + c.count, [](std::string_view t) { return !parse_int(t); });
+}
+
+// what: "vertex 3", "face 0", built only for a message.
+Rgb decode_colour(const fs::path& path, const ColourTokens& c, bool floats, const std::function<std::string()>& what) {
+  Rgb rgb;
+  for (std::size_t k = 0; k < c.count; ++k) {
+    const std::optional<double> v = parse_double(c.tokens[k]);
+    const bool ok = v && (floats ? (*v >= 0.0 && *v <= 1.0) : (*v >= 0.0 && *v <= 255.0));
+    if (!ok) {
+      throw InputError(path, c.line,
+                       what() + ": colour component " + show(c.tokens[k]) +
+                           (floats ? " is not a number in [0, 1] (colours with a decimal point are floats)"
+                                   : " is not an integer in 0..255"));
     }
-    out[i] = rgb;
+    if (k < 3) rgb[k] = floats ? *v : *v / 255.0;
   }
-  return out;
+  return rgb;
 }
 
 // ASCII OFF, with '#' comments: coordinates as written (not narrowed to
-// float), normals, texture coordinates and colours checked per line.
+// float), normals, texture coordinates and colours checked per line. Read
+// one line at a time: the tokens of every line at once took more memory
+// than the mesh they build. Only the vertex colours wait, as views, for
+// the end of the vertex list, since their scale is decided per file.
 StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceIndices faces) {
   text::require_text(path, text);
-  const std::vector<text::Line> lines = text::tokenize(text, true);
-  if (lines.empty()) throw InputError(path, "empty file");
-  std::size_t next = 0;
-  const text::Line& head = lines[next++];
+  text::LineReader lines(text, true);
+  Line head;
+  if (!lines.next(head)) throw InputError(path, "empty file");
   std::string magic(head.tokens[0]);
   if (magic.size() < 3 || magic.substr(magic.size() - 3) != "OFF") {
     throw InputError(path, head.number, "not an OFF file (it must start with 'OFF')");
@@ -79,26 +78,30 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
   const bool texcoords = flags.find("ST") != std::string::npos;
   const bool coloured = flags.find('C') != std::string::npos;
   const bool normals = flags.find('N') != std::string::npos;
-  std::vector<std::string_view> counts(head.tokens.begin() + 1, head.tokens.end());
-  int counts_line = head.number;
-  if (counts.empty()) {
-    if (next >= lines.size()) throw InputError(path, "file ends after the OFF header (truncated file?)");
-    counts = lines[next].tokens;
-    counts_line = lines[next++].number;
+  Line counts_line = head;
+  counts_line.tokens.erase(counts_line.tokens.begin());
+  if (counts_line.tokens.empty() && !lines.next(counts_line)) {
+    throw InputError(path, "file ends after the OFF header (truncated file?)");
   }
+  const std::vector<std::string_view>& counts = counts_line.tokens;
   const std::optional<long long> nv = counts.size() >= 2 ? parse_int(counts[0]) : std::nullopt;
   const std::optional<long long> nf = counts.size() >= 2 ? parse_int(counts[1]) : std::nullopt;
   if (!nv || !nf || *nv < 0 || *nf < 0) {
-    throw InputError(path, counts_line, "OFF counts line must be 'VERTICES FACES EDGES'");
+    throw InputError(path, counts_line.number, "OFF counts line must be 'VERTICES FACES EDGES'");
   }
   // Each vertex and face is a line of its own, so the counts are bounded
-  // by the lines that follow before anything is sized by them.
-  const auto left = static_cast<long long>(lines.size() - next);
+  // by the lines left in the file before anything is sized by them.
+  const std::size_t counts_end = static_cast<std::size_t>(counts_line.tokens.back().data() - text.data());
+  const auto left = static_cast<long long>(std::count(text.begin() + counts_end, text.end(), '\n'));
   if (*nv > left || *nf > left - *nv) {
-    throw InputError(path, counts_line,
+    throw InputError(path, counts_line.number,
                      "header declares " + std::to_string(*nv) + " vertices and " + std::to_string(*nf) +
-                         " faces, but only " + std::to_string(left) + " lines follow (truncated file?)");
+                         " faces, but at most " + std::to_string(left) + " lines follow (truncated file?)");
   }
+  const auto ends_after = [&](long long done, long long of, const char* what) {
+    return InputError(path, "file ends after " + std::to_string(done) + " of " + std::to_string(of) + " " + what +
+                                " (truncated file?)");
+  };
   StoredMesh mesh;
   mesh.points.reserve(static_cast<std::size_t>(*nv));
   mesh.faces.reserve(static_cast<std::size_t>(*nf));
@@ -106,34 +109,38 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
   // that order, as the header's N, C and ST prefixes declare.
   const std::size_t fixed = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0);
   std::vector<ColourTokens> vertex_colours;
+  Line line;
   for (long long i = 0; i < *nv; ++i) {
-    const text::Line& line = lines[next++];
-    const std::string what = "vertex " + std::to_string(i);
-    mesh.points.push_back(text::finite_xyz(path, line, 0, what));
+    if (!lines.next(line)) throw ends_after(i, *nv, "vertices");
+    const auto what = [i] { return "vertex " + std::to_string(i); };
+    mesh.points.push_back(text::finite_xyz(path, line, 0, what()));
     const std::size_t n = line.tokens.size();
     const std::size_t colour = n >= fixed ? n - fixed : 0;
     // Without a C prefix, three or four extra values are still a colour:
     // many writers add one without saying so.
     if (n < fixed || (coloured && colour != 3 && colour != 4) || (colour != 0 && colour != 3 && colour != 4)) {
       throw InputError(path, line.number,
-                       what + ": " + std::to_string(n) + " values; " + show(magic) + " needs " +
+                       what() + ": " + std::to_string(n) + " values; " + show(magic) + " needs " +
                            std::to_string(fixed) + (coloured ? " plus 3 or 4 colour components" : "") +
                            " (x y z" + (normals ? ", a normal" : "") + (coloured ? ", a colour" : "") +
                            (texcoords ? ", s t" : "") + ")");
     }
     for (std::size_t k = 3; k < n; ++k) {
       if (!parse_double(line.tokens[k])) {
-        throw InputError(path, line.number, what + ": " + show(line.tokens[k]) + " is not a number");
+        throw InputError(path, line.number, what() + ": " + show(line.tokens[k]) + " is not a number");
       }
     }
-    const std::size_t first = 3 + (normals ? 3 : 0);
-    vertex_colours.push_back({line.number, what,
-                              std::vector<std::string_view>(line.tokens.begin() + first,
-                                                            line.tokens.begin() + first + colour)});
+    if (colour == 0) continue;
+    if (vertex_colours.empty()) vertex_colours.resize(static_cast<std::size_t>(*nv));
+    ColourTokens& c = vertex_colours[static_cast<std::size_t>(i)];
+    c.line = line.number;
+    c.count = colour;
+    std::copy_n(line.tokens.begin() + 3 + (normals ? 3 : 0), colour, c.tokens.begin());
   }
-  std::vector<ColourTokens> face_colours;
+  mesh.face_colours.reserve(static_cast<std::size_t>(*nf));
+  std::vector<long long> indices;
   for (long long i = 0; i < *nf; ++i) {
-    const text::Line& line = lines[next++];
+    if (!lines.next(line)) throw ends_after(i, *nf, "faces");
     const text::ErrorAt error = [&](const std::string& problem) {
       return InputError(path, line.number, "face " + std::to_string(i) + ": " + problem);
     };
@@ -141,7 +148,7 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
     if (!n || *n < 0 || static_cast<std::size_t>(*n) + 1 > line.tokens.size()) {
       throw error("line must be 'N i1 ... iN [colour]'");
     }
-    std::vector<long long> indices;
+    indices.clear();
     for (long long k = 1; k <= *n; ++k) {
       const std::optional<long long> v = parse_int(line.tokens[k]);
       if (!v) throw error(show(line.tokens[k]) + " is not a vertex index");
@@ -158,20 +165,30 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
     // The colour runs to the end of the line: nothing, a colour-map index
     // (no colour map is read, so the face keeps its vertices' colour), or
     // 3 or 4 components.
-    std::vector<std::string_view> colour(line.tokens.begin() + 1 + *n, line.tokens.end());
-    if (colour.size() == 2 || colour.size() > 4) {
-      throw error(std::to_string(colour.size()) +
+    const std::size_t extra = line.tokens.size() - 1 - static_cast<std::size_t>(*n);
+    if (extra == 2 || extra > 4) {
+      throw error(std::to_string(extra) +
                   " values after the indices; a face colour is 1 (a colour-map index), 3 or 4 numbers");
     }
-    if (colour.size() == 1) {
-      if (!parse_int(colour[0])) throw error(show(colour[0]) + " is not a colour-map index");
-      colour.clear();
+    if (extra == 1 && !parse_int(line.tokens.back())) {
+      throw error(show(line.tokens.back()) + " is not a colour-map index");
     }
-    face_colours.push_back({line.number, "face " + std::to_string(i), colour});
+    std::optional<Rgb> face_colour;
+    if (extra >= 3) {
+      ColourTokens c{line.number, extra, {}};
+      std::copy_n(line.tokens.end() - static_cast<std::ptrdiff_t>(extra), extra, c.tokens.begin());
+      face_colour = decode_colour(path, c, written_as_float(c), [i] { return "face " + std::to_string(i); });
+    }
+    mesh.face_colours.push_back(face_colour);
     mesh.faces.emplace_back(indices.begin(), indices.end());
   }
-  mesh.vertex_colours = decode_colours(path, vertex_colours, static_cast<std::size_t>(*nv), true);
-  mesh.face_colours = decode_colours(path, face_colours, static_cast<std::size_t>(*nf), false);
+  mesh.vertex_colours.resize(static_cast<std::size_t>(*nv));
+  const bool floats = std::any_of(vertex_colours.begin(), vertex_colours.end(), written_as_float);
+  for (std::size_t i = 0; i < vertex_colours.size(); ++i) {
+    if (vertex_colours[i].count == 0) continue;
+    mesh.vertex_colours[i] =
+        decode_colour(path, vertex_colours[i], floats, [i] { return "vertex " + std::to_string(i); });
+  }
   return mesh;
 }
 

@@ -1,6 +1,7 @@
 #include "radiosity/interaction_graph.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace lhr {
@@ -18,7 +19,7 @@ InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, co
   std::sort(initial.begin(), initial.end());
   initial.erase(std::unique(initial.begin(), initial.end()), initial.end());
   vertices_.reserve(initial.size());
-  links_.reserve(initial.size());
+  first_.reserve(initial.size() + 1);
   gathered_.reserve(initial.size());
   if (!initial.empty()) index_.reserve(static_cast<std::size_t>(initial.back()) + 1);
   leaves_.reserve(receiver.num_roots());
@@ -48,7 +49,7 @@ int InteractionGraph::add_vertex(VertexId v) {
   vertices_.push_back(v);
   if (static_cast<std::size_t>(v) >= index_.size()) index_.resize(static_cast<std::size_t>(v) + 1, -1);
   index_[v] = i;
-  links_.emplace_back();
+  first_.push_back(first_.back());
   gathered_.emplace_back(0, 0, 0);
   return i;
 }
@@ -89,15 +90,65 @@ bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<N
   return true;
 }
 
+void InteractionGraph::set_every_vertex_link(const GraphLink& link) {
+  if (!links_.empty() || !growing_.empty()) {
+    throw std::logic_error("InteractionGraph::set_every_vertex_link: the graph has links already");
+  }
+  if (vertices_.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("InteractionGraph: more than 2^32 links in one graph");
+  }
+  links_.assign(vertices_.size(), link);
+  for (std::size_t i = 0; i < vertices_.size(); ++i) first_[i + 1] = static_cast<std::uint32_t>(i + 1);
+}
+
+void InteractionGraph::add_link(int i, const GraphLink& link) {
+  auto [it, added] = growing_.try_emplace(i);
+  if (added) {
+    const std::span<const GraphLink> packed(links_.data() + first_[i], first_[i + 1] - first_[i]);
+    it->second.assign(packed.begin(), packed.end());
+  }
+  it->second.push_back(link);
+}
+
+void InteractionGraph::set_links(int i, std::span<const GraphLink> links) {
+  if (!this->links(i).empty()) throw std::logic_error("InteractionGraph::set_links: the vertex has links already");
+  growing_[i].assign(links.begin(), links.end());
+}
+
+void InteractionGraph::pack_links() {
+  if (growing_.empty()) return;
+  std::size_t total = links_.size();
+  for (const auto& [i, list] : growing_) total += list.size() - (first_[i + 1] - first_[i]);
+  if (total > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("InteractionGraph: more than 2^32 links in one graph");
+  }
+  std::vector<GraphLink> packed;
+  packed.reserve(total);
+  std::vector<std::uint32_t> first;
+  first.reserve(first_.size());
+  first.push_back(0);
+  for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
+    if (const auto it = growing_.find(static_cast<int>(i)); it != growing_.end()) {
+      packed.insert(packed.end(), it->second.begin(), it->second.end());
+    } else {
+      packed.insert(packed.end(), links_.begin() + first_[i], links_.begin() + first_[i + 1]);
+    }
+    first.push_back(static_cast<std::uint32_t>(packed.size()));
+  }
+  growing_ = {};
+  links_ = std::move(packed);
+  first_ = std::move(first);
+}
+
 std::size_t InteractionGraph::num_links() const {
-  std::size_t n = 0;
-  for (const auto& l : links_) n += l.size();
+  std::size_t n = links_.size();
+  for (const auto& [i, list] : growing_) n += list.size() - (first_[i + 1] - first_[i]);
   return n;
 }
 
 std::size_t InteractionGraph::link_bytes() const {
-  std::size_t bytes = 0;
-  for (const auto& l : links_) bytes += l.capacity() * sizeof(GraphLink);
+  std::size_t bytes = links_.capacity() * sizeof(GraphLink);
+  for (const auto& [i, list] : growing_) bytes += list.capacity() * sizeof(GraphLink);
   return bytes;
 }
 
@@ -105,7 +156,8 @@ std::size_t InteractionGraph::bytes() const {
   return sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
          vertices_.capacity() * sizeof(VertexId) +
          index_.capacity() * sizeof(std::int32_t) +
-         links_.capacity() * sizeof(std::vector<GraphLink>) + gathered_.capacity() * sizeof(Rgb);
+         first_.capacity() * sizeof(std::uint32_t) + gathered_.capacity() * sizeof(Rgb) +
+         growing_.size() * (sizeof(std::vector<GraphLink>) + 2 * sizeof(void*));
 }
 
 }  // namespace lhr

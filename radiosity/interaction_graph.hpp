@@ -6,6 +6,8 @@
 // there. The graph owns no geometry: node and vertex ids are R's.
 
 #include <cstdint>
+#include <span>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -51,8 +53,27 @@ class InteractionGraph {
   VertexId vertex(int i) const { return vertices_[i]; }
   // Index of R's vertex v in this graph, or -1.
   int index_of(VertexId v) const { return static_cast<std::size_t>(v) < index_.size() ? index_[v] : -1; }
-  std::vector<GraphLink>& links(int i) { return links_[i]; }
-  const std::vector<GraphLink>& links(int i) const { return links_[i]; }
+  // Vertex i's links. A view: add_link() and set_links() move them.
+  std::span<GraphLink> links(int i) {
+    if (!growing_.empty()) {
+      if (const auto it = growing_.find(i); it != growing_.end()) return it->second;
+    }
+    return {links_.data() + first_[i], first_[i + 1] - first_[i]};
+  }
+  std::span<const GraphLink> links(int i) const {
+    if (!growing_.empty()) {
+      if (const auto it = growing_.find(i); it != growing_.end()) return it->second;
+    }
+    return {links_.data() + first_[i], first_[i + 1] - first_[i]};
+  }
+  // Every vertex's one link, before any other (a new shooter's first links).
+  void set_every_vertex_link(const GraphLink& link);
+  void add_link(int i, const GraphLink& link);
+  // Vertex i's links become `links` (a new vertex, which had none).
+  void set_links(int i, std::span<const GraphLink> links);
+  // Puts the lists that grew since the last call back into the one array,
+  // each vertex's links in their order.
+  void pack_links();
   // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l.
   Rgb& gathered(int i) { return gathered_[i]; }
   const Rgb& gathered(int i) const { return gathered_[i]; }
@@ -86,7 +107,14 @@ class InteractionGraph {
   // cost less than a hash table's nodes once a graph holds a few per cent of
   // them, and lookups are direct.
   std::vector<std::int32_t> index_;
-  std::vector<std::vector<GraphLink>> links_;
+  // Every vertex's links in one array, vertex i's at [first_[i],
+  // first_[i + 1]): a small vector per vertex cost a 24-byte header, an
+  // allocation and its spare capacity, for lists of one to a few hundred
+  // links. A list that grows during a refinement pass is copied out to
+  // growing_ and packed back in afterwards (pack_links).
+  std::vector<GraphLink> links_;
+  std::vector<std::uint32_t> first_{0};
+  std::unordered_map<int, std::vector<GraphLink>> growing_;
   std::vector<Rgb> gathered_;
 };
 

@@ -271,10 +271,8 @@ bool LinearSolver::link_new_shooters() {
       const int g = static_cast<int>(graphs_.size());
       graphs_.emplace_back(s, r, model_.hierarchy(r));
       InteractionGraph& graph = graphs_.back();
-      for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) {
-        graph.links(i).push_back({kWholeSurface, {}});
-        pending.push_back({g, i, 0});
-      }
+      graph.set_every_vertex_link({kWholeSurface, {}});
+      for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) pending.push_back({g, i, 0});
     }
   }
   timer.stop();
@@ -431,6 +429,10 @@ bool LinearSolver::refine() {
   // The coefficients of the new links count as their own phase.
   stats_.seconds_oracles -= stats_.seconds_coefficients - coefficient_seconds;
   return changed;
+}
+
+void LinearSolver::pack_grown_links() {
+  tbb::parallel_for(std::size_t{0}, graphs_.size(), [&](std::size_t g) { graphs_[g].pack_links(); });
 }
 
 void LinearSolver::solve(const std::function<void(int, double)>& progress) {

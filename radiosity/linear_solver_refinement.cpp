@@ -93,7 +93,7 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
     for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}});
     for (std::size_t t = 0; t < links.size(); ++t) pending.push_back({gi, nv.index, t});
     links_now_ += links.size();
-    g.links(nv.index) = std::move(links);
+    g.set_links(nv.index, links);
   }
 }
 
@@ -115,6 +115,8 @@ bool LinearSolver::refine_shooters() {
       for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
     }
     changed |= split_shooters(candidates, created);
+    // Packed graph by graph: a list that grows is copied out until then.
+    graphs_[gi].pack_links();
   }
   compute_coefficients(created);
   candidates = std::move(created);
@@ -122,6 +124,7 @@ bool LinearSolver::refine_shooters() {
     if (options_.checkpoint) options_.checkpoint();
     std::vector<PendingLink> next;
     changed |= split_shooters(candidates, next);
+    pack_grown_links();
     compute_coefficients(next);
     candidates = std::move(next);
   }
@@ -166,12 +169,11 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
     if (!seen && !own) continue;
     if (budget_.refuses(links_now_, 3, stats_)) continue;
     const std::vector<NodeId> kids = children(s, link.shooter);
-    std::vector<GraphLink>& links = g.links(p.vertex);
-    links[p.slot] = {kids[0], {}};
+    g.links(p.vertex)[p.slot] = {kids[0], {}};
     created.push_back(p);
     for (std::size_t c = 1; c < kids.size(); ++c) {
-      created.push_back({p.graph, p.vertex, links.size()});
-      links.push_back({kids[c], {}});
+      created.push_back({p.graph, p.vertex, g.links(p.vertex).size()});
+      g.add_link(p.vertex, {kids[c], {}});
     }
     links_now_ += kids.size() - 1;
     ++stats_.shooter_refinements;
@@ -425,6 +427,7 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     const int graph = static_cast<int>(gi);
     changed |= split_receiver_leaves(graph, receiver_leaves_to_split(graph, tone), pending);
+    graphs_[gi].pack_links();
   }
   return changed;
 }

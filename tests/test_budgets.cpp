@@ -323,11 +323,66 @@ TEST(Budgets, AGraphOnItsReceiversRootsHoldsNoSpareRoom) {
   const std::size_t roots = receiver.num_roots();
   ASSERT_EQ(graph.num_vertices(), vertices);
   ASSERT_EQ(graph.num_leaves(), roots);
-  // Per vertex: its id, its place in the dense index, its link list and its
-  // gathered value; per root: its state and its place among the leaves.
-  const std::size_t per_vertex = sizeof(VertexId) + sizeof(std::int32_t) + sizeof(std::vector<GraphLink>) + sizeof(Rgb);
+  // Per vertex: its id, its place in the dense index, where its links start
+  // in the graph's one link array (a 32-bit offset, not a vector of its own)
+  // and its gathered value; per root: its state and its place among the
+  // leaves.
+  const std::size_t per_vertex = sizeof(VertexId) + sizeof(std::int32_t) + sizeof(std::uint32_t) + sizeof(Rgb);
   const std::size_t per_root = sizeof(std::uint8_t) + sizeof(NodeId);
-  EXPECT_LE(graph.bytes(), sizeof(InteractionGraph) + vertices * per_vertex + roots * per_root);
+  EXPECT_LE(graph.bytes(),
+            sizeof(InteractionGraph) + sizeof(std::uint32_t) + vertices * per_vertex + roots * per_root);
+}
+
+// A strip of two triangles: four vertices, two roots.
+SurfaceHierarchy two_triangles() {
+  TriMesh mesh;
+  const auto a = mesh.add_vertex(Vec3(0, 0, 0)), b = mesh.add_vertex(Vec3(1, 0, 0));
+  const auto c = mesh.add_vertex(Vec3(1, 0, 1)), d = mesh.add_vertex(Vec3(0, 0, 1));
+  mesh.add_face(a, c, b);
+  mesh.add_face(a, d, c);
+  return SurfaceHierarchy(std::move(mesh));
+}
+
+std::vector<NodeId> shooters_of(const InteractionGraph& g, int i) {
+  std::vector<NodeId> out;
+  for (const GraphLink& l : g.links(i)) out.push_back(l.shooter);
+  return out;
+}
+
+TEST(Budgets, GraphLinksGrowInOrderAndPackIntoOneArrayWithNoSpareRoom) {
+  SurfaceHierarchy receiver = two_triangles();
+  InteractionGraph g(0, 1, receiver);
+  ASSERT_EQ(g.num_vertices(), 4u);
+  g.set_every_vertex_link({kWholeSurface, {}});
+  EXPECT_EQ(g.num_links(), 4u);
+  EXPECT_EQ(g.link_bytes(), 4 * sizeof(GraphLink));
+  // A shooter split: the first link becomes a child, three more follow. The
+  // grown list is seen at once, before it is packed.
+  g.links(1)[0] = {10, {}};
+  for (NodeId kid : {11, 12, 13}) g.add_link(1, {kid, {}});
+  g.add_link(3, {20, {}});
+  EXPECT_EQ(shooters_of(g, 1), (std::vector<NodeId>{10, 11, 12, 13}));
+  EXPECT_EQ(shooters_of(g, 3), (std::vector<NodeId>{kWholeSurface, 20}));
+  EXPECT_EQ(g.num_links(), 8u);
+  // A receiver split: each new vertex starts from its seed's links.
+  std::vector<InteractionGraph::NewVertex> created;
+  ASSERT_TRUE(g.split(receiver.root(0), receiver, created));
+  ASSERT_FALSE(created.empty());
+  for (const auto& nv : created) {
+    const std::vector<NodeId> seed = shooters_of(g, nv.seed);
+    std::vector<GraphLink> links;
+    for (NodeId e : seed) links.push_back({e, {}});
+    g.set_links(nv.index, links);
+    EXPECT_EQ(shooters_of(g, nv.index), seed);
+  }
+  EXPECT_THROW(g.set_links(created[0].index, std::vector<GraphLink>{{30, {}}}), std::logic_error);
+  std::vector<std::vector<NodeId>> before;
+  for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) before.push_back(shooters_of(g, i));
+  const std::size_t links = g.num_links();
+  g.pack_links();
+  for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) EXPECT_EQ(shooters_of(g, i), before[i]) << i;
+  EXPECT_EQ(g.num_links(), links);
+  EXPECT_EQ(g.link_bytes(), links * sizeof(GraphLink));
 }
 
 }  // namespace

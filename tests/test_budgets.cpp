@@ -299,7 +299,8 @@ TEST(Budgets, MaxMemoryTakesSizesAndRejectsNonsense) {
 // one graph per lamp, most of which never split: each must cost its
 // receiver's initial vertices and roots and nothing more. Growth by doubling
 // left up to half of every per-vertex table unused (10 000 lamps: 637 MB of
-// graphs for 104 MB of links, now 362 MB; docs/robustness.md, "Budgets").
+// graphs for 104 MB of links, then 362 MB, and 259 MB with the links in one
+// array; docs/robustness.md, "Budgets").
 TEST(Budgets, AGraphOnItsReceiversRootsHoldsNoSpareRoom) {
   constexpr int kSide = 21;  // 441 vertices, 800 roots: not a power of two
   TriMesh mesh;

@@ -6,7 +6,13 @@ namespace lhr {
 
 std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key) {
   std::vector<TriangleSample> samples;
-  if (k <= 0) return samples;
+  stratified_triangle_samples(k, key, samples);
+  return samples;
+}
+
+void stratified_triangle_samples(int k, std::uint64_t key, std::vector<TriangleSample>& samples) {
+  samples.clear();
+  if (k <= 0) return;
   samples.reserve(static_cast<std::size_t>(k) * k);
   const double step = 1.0 / k;
   int index = 0;
@@ -36,7 +42,6 @@ std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key
       }
     }
   }
-  return samples;
 }
 
 TriangleSample uniform_triangle_sample(std::uint64_t key) {

@@ -34,6 +34,9 @@ struct TriangleSample {
 // sub-triangles (k cuts per edge) and one sample is jittered uniformly inside
 // each, by the key.
 std::vector<TriangleSample> stratified_triangle_samples(int k, std::uint64_t key);
+// The same samples into `out` (cleared first), for callers that reuse one
+// array across calls.
+void stratified_triangle_samples(int k, std::uint64_t key, std::vector<TriangleSample>& out);
 
 // One uniform sample, stratified_triangle_samples(1, key)'s, without the
 // vector (a shadow ray of a cluster link draws one per ray).

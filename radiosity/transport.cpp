@@ -141,7 +141,9 @@ std::array<double, 3> near_basis_form_factors(const ReceiverPoint& receiver, con
     int depth;
   };
   std::array<double, 3> out{0.0, 0.0, 0.0};
-  std::vector<Piece> stack{{shooter, {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}, 0}};
+  // Reused across calls (see TriangleTransportScratch).
+  thread_local std::vector<Piece> stack;
+  stack.assign(1, {shooter, {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}, 0});
   while (!stack.empty()) {
     const Piece p = stack.back();
     stack.pop_back();
@@ -167,6 +169,17 @@ std::array<double, 3> near_basis_form_factors(const ReceiverPoint& receiver, con
   return out;
 }
 
+// triangle_transport's working arrays, one set per thread and reused: it
+// runs once per link, and allocating them on every call cost a few per cent
+// of a solve, and a tenth of it under AddressSanitizer.
+struct TriangleTransportScratch {
+  std::vector<TriangleSample> samples;
+  std::vector<double> weight;
+  std::vector<ShadowRay> segments;
+  std::vector<std::size_t> traced;
+  std::vector<std::uint8_t> blocked;
+};
+
 }  // namespace
 
 TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
@@ -180,11 +193,12 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
 
   const Vec3 ny = unit_normal(shooter);
   const Vec3 origin = kernel_origin(receiver, rays);
-  const auto samples = stratified_triangle_samples(std::max(1, sampling.k), sampling.key);
-  std::vector<double> weight(samples.size());
-  std::vector<ShadowRay> segments;
-  std::vector<std::size_t> traced;
-  segments.reserve(samples.size());
+  thread_local TriangleTransportScratch scratch;
+  auto& [samples, weight, segments, traced, blocked] = scratch;
+  stratified_triangle_samples(std::max(1, sampling.k), sampling.key, samples);
+  weight.resize(samples.size());
+  segments.clear();
+  traced.clear();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Vec3 y = at(shooter, samples[i]);
     weight[i] = kernel(origin, receiver.normal, y, ny);
@@ -199,7 +213,7 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
     out.f.fill(static_cast<float>(ff / 3.0));
     return out;
   }
-  std::vector<std::uint8_t> blocked(segments.size());
+  blocked.assign(segments.size(), 0);
   rays.occluded(segments, blocked);
   ray_count += segments.size();
   double total = 0.0;

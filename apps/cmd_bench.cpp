@@ -59,6 +59,13 @@ constexpr const char* kUsage =
     "   rel_within_15 and mean_ratio (a dashed line at 1); bottom row, secondary: the\n"
     "   paper's within_10 and within_15 and the display rmse.\n"
     "   Without gnuplot: bench.csv and charts.gp, and one warning.\n"
+    "6. Seconds to reach: for each --reach target T and each method, the fastest\n"
+    "   finished run with rel_within_10 >= T (a measured run, not a fitted curve),\n"
+    "   printed side by side once the sweep is whole and written to DIR/reach.csv\n"
+    "   (target, method, reached, seconds_total, parameters, rel_within_10, links,\n"
+    "   peak_rss_bytes, path_over_this: the path tracer's seconds over this\n"
+    "   method's); a method that never got there shows its best rel_within_10. The\n"
+    "   targets are dashed lines on the rel_within_10 panels.\n"
     "\n"
     "bench.csv: one row per finished run, in the order above; fixed decimals; an empty\n"
     "cell where a column does not apply to the method.\n"
@@ -151,6 +158,8 @@ int run_bench(const Args& args) {
        "target relative noise of the reference (0: exactly --reference-max-spp samples per pixel)")
       ("reference-max-spp", po::value<int>()->default_value(4096), "samples per pixel at most for the reference")
       ("max-seconds", double_value(0.0), "start no run after this many seconds (0: no limit)")
+      ("reach", po::value<std::string>()->default_value("90,95"),
+       "accuracy targets, % of pixels within 10 % (relative): the seconds each method took to reach each")
       ("min-edge", po::value<double>(), "lhr solve: smallest element edge (default h/32)")
       ("max-iterations", po::value<int>(), "lhr solve: iteration limit")
       ("tolerance", po::value<double>(), "lhr solve: convergence tolerance")
@@ -182,8 +191,10 @@ int run_bench(const Args& args) {
   const auto linear = parsed_list(parse_linear_list, vm["linear"].as<std::string>());
   const auto classical = parsed_list(parse_classical_list, vm["classical"].as<std::string>());
   const auto path = parsed_list(parse_spp_list, vm["spp"].as<std::string>());
+  const auto reach_targets = parsed_list(parse_reach_list, vm["reach"].as<std::string>());
   BenchSettings settings;
   settings.runs = plan_bench(methods, linear, classical, path);
+  settings.reach_targets = reach_targets;
   settings.reference_noise = vm["reference-noise"].as<double>();
   settings.reference_max_spp = vm["reference-max-spp"].as<int>();
   settings.max_seconds = vm["max-seconds"].as<double>();
@@ -254,6 +265,7 @@ int run_bench(const Args& args) {
          << (settings.out_dir / "bench.csv").string();
     for (const auto& chart : outcome.charts) line << ", " << chart.filename().string();
     std::cerr << line.str() << "\n";
+    for (const std::string& reached : outcome.reach) std::cerr << "lhr bench: " << reached << "\n";
   }
   return kExitOk;
 }

@@ -5,11 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -159,7 +161,7 @@ TEST(BenchPlan, ChartsLeaveThePathTracerOffTheLinksChart) {
   const char* const order[] = {"rel_within_10", "rel_within_15", "mean_ratio", "within_10", "within_15", "rmse"};
   for (std::size_t i = 0; i < 6; ++i) {
     EXPECT_EQ(charts[0].panels[i].y_column, bench_csv_column(order[i])) << order[i];
-    EXPECT_EQ(charts[0].panels[i].y_line.has_value(), i == 2) << order[i];
+    EXPECT_EQ(charts[0].panels[i].y_lines.size(), i == 2 ? 1u : 0u) << order[i];
   }
   const std::string script = gnuplot_script("bench.csv", 1, charts);
   for (const char* part : {"pngcairo", "accuracy_vs_links.png", "accuracy_vs_memory.png", "set logscale x",
@@ -167,6 +169,68 @@ TEST(BenchPlan, ChartsLeaveThePathTracerOffTheLinksChart) {
                            "size 1500,960", "set arrow 1 from graph 0, first 1 to graph 1, first 1"}) {
     EXPECT_NE(script.find(part), std::string::npos) << part;
   }
+}
+
+// Seconds to reach a target: per method the fastest finished run at or above
+// it, whatever order the rows come in; a method that never got there shows
+// its best; the path tracer's time over each method's where both got there.
+TEST(BenchPlan, SecondsToReachAreTheFastestRunThatGotThere) {
+  const auto row = [](const BenchRun& run, double seconds, double within, long links) {
+    BenchRow r{run, bench_record({"x"}, seconds, 1 << 20, links > 0 ? nlohmann::json{{"links", links}} : nullptr),
+               {}};
+    r.metrics.rel_within_10 = within;
+    return r;
+  };
+  const auto linear = parse_linear_list("10/0.3,40/1,160/4");
+  const std::vector<BenchRow> rows{row(linear[0], 30.0, 96.0, 3000),
+                                   row(linear[1], 10.0, 91.0, 1000),
+                                   row(linear[2], 5.0, 80.0, 100),
+                                   row(parse_classical_list("0.001")[0], 20.0, 93.0, 5000),
+                                   row(parse_spp_list("256")[0], 40.0, 97.0, 0),
+                                   row(parse_spp_list("16")[0], 8.0, 85.0, 0)};
+  const auto reach = bench_reach(rows, parse_reach_list("90, 95"));
+  ASSERT_EQ(reach.size(), 6u);
+  const std::optional<std::size_t> expected[] = {1, 3, 4, 0, std::nullopt, 4};
+  const BenchMethod order[] = {BenchMethod::kLinear, BenchMethod::kClassical, BenchMethod::kPath};
+  for (std::size_t i = 0; i < reach.size(); ++i) {
+    EXPECT_EQ(reach[i].target, i < 3 ? 90.0 : 95.0) << i;
+    EXPECT_EQ(reach[i].method, order[i % 3]) << i;
+    EXPECT_EQ(reach[i].row, expected[i]) << i;
+  }
+  EXPECT_DOUBLE_EQ(reach[4].best, 93.0);
+
+  const auto lines = reach_summary(rows, reach);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0],
+            "90 % within 10 %: linear 10.0 s (eps_link=40 eps_pixel=1), classical 20.0 s (eps_bf=0.001), "
+            "path 40.0 s (spp=256); linear 4.0x sooner than the path tracer; classical 2.0x sooner than the "
+            "path tracer");
+  EXPECT_EQ(lines[1],
+            "95 % within 10 %: linear 30.0 s (eps_link=10 eps_pixel=0.3), classical not reached (best 93.0 %), "
+            "path 40.0 s (spp=256); linear 1.3x sooner than the path tracer");
+
+  const auto csv = split(reach_csv(rows, reach), '\n');
+  ASSERT_EQ(csv.size(), 8u);  // header, six entries, the end of the last line
+  EXPECT_EQ(csv[0], "target,method,reached,seconds_total,parameters,rel_within_10,links,peak_rss_bytes,path_over_this");
+  EXPECT_EQ(csv[1], "90,linear,1,10.000,eps_link=40 eps_pixel=1,91.000,1000,1048576,4.000");
+  EXPECT_EQ(csv[3], "90,path,1,40.000,spp=256,97.000,,1048576,1.000");
+  EXPECT_EQ(csv[5], "95,classical,0,,,93.000,,,");
+
+  // Methods without rows are left out; no target reached by anyone.
+  const auto only_path = bench_reach({rows[5]}, {99.0});
+  ASSERT_EQ(only_path.size(), 1u);
+  EXPECT_FALSE(only_path[0].row);
+  EXPECT_EQ(reach_summary({rows[5]}, only_path)[0], "99 % within 10 %: path not reached (best 85.0 %)");
+  const std::vector<BenchRow> slow{row(linear[0], 60.0, 96.0, 3000), rows[4]};
+  EXPECT_EQ(reach_summary(slow, bench_reach(slow, {95.0}))[0],
+            "95 % within 10 %: linear 60.0 s (eps_link=10 eps_pixel=0.3), path 40.0 s (spp=256); "
+            "linear 1.5x slower than the path tracer");
+
+  EXPECT_EQ(error_of([] { parse_reach_list("0"); }), "--reach: \"0\" is not a percentage in (0, 100]");
+  EXPECT_EQ(error_of([] { parse_reach_list("100.5"); }), "--reach: \"100.5\" is not a percentage in (0, 100]");
+  EXPECT_EQ(error_of([] { parse_reach_list("95,x"); }), "--reach: \"x\" is not a percentage in (0, 100]");
+  EXPECT_EQ(error_of([] { parse_reach_list("95,95"); }), "--reach lists 95 twice");
+  EXPECT_EQ(parse_reach_list("100"), std::vector<double>{100.0});
 }
 
 // The end-to-end sweep: a coarse Cornell box seen by a 48x36 camera.
@@ -240,6 +304,14 @@ TEST_F(BenchCommand, SweepsWritesTheDocumentedCsvAndChartsThenResumes) {
   EXPECT_TRUE(std::filesystem::exists(out / "charts.gp"));
   EXPECT_TRUE(std::filesystem::exists(out / "reference.exr"));
   EXPECT_TRUE(std::filesystem::exists(out / "runs" / "linear-40-1" / "row.json"));
+  // Seconds to reach the default targets (90 and 95 %), each method side by side.
+  const auto reach = split(test::read_text(out / "reach.csv"), '\n');
+  ASSERT_EQ(reach.size(), 8u);  // header, 2 targets x 3 methods, the end of the last line
+  for (std::size_t k = 1; k < 7; ++k) {
+    EXPECT_EQ(split(reach[k], ',')[1], methods[std::min<std::size_t>((k - 1) % 3, 2)]) << reach[k];
+  }
+  EXPECT_NE(first.err.find("lhr bench: 90 % within 10 %: linear "), std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("lhr bench: 95 % within 10 %: linear "), std::string::npos) << first.err;
 
   // The same command again runs nothing and writes the same table.
   std::vector<std::filesystem::file_time_type> written;
@@ -297,6 +369,7 @@ TEST_F(BenchCommand, WithoutGnuplotWritesTheScriptAndWarnsOnce) {
   EXPECT_NE(warning, std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("warning: gnuplot", warning + 1), std::string::npos) << "warned once: " << r.err;
   EXPECT_EQ(split(test::read_text(out / "bench.csv"), '\n').size(), 3u);
+  EXPECT_EQ(split(test::read_text(out / "reach.csv"), '\n').size(), 4u);  // header, 90 and 95 for the path tracer
   EXPECT_TRUE(std::filesystem::exists(out / "charts.gp"));
   EXPECT_FALSE(std::filesystem::exists(out / "accuracy_vs_seconds.png"));
 }

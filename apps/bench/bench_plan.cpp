@@ -1,5 +1,6 @@
 #include "apps/bench/bench_plan.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <iomanip>
@@ -241,7 +242,8 @@ int bench_csv_column(const std::string& name) {
   throw std::logic_error("bench.csv has no column " + name);
 }
 
-std::vector<Chart> bench_charts(const std::string& title, const std::vector<BenchRow>& rows) {
+std::vector<Chart> bench_charts(const std::string& title, const std::vector<BenchRow>& rows,
+                                const std::vector<double>& reach_targets) {
   const auto series_of = [&](bool with_path) {
     std::vector<ChartSeries> series;
     const std::pair<BenchMethod, const char*> methods[] = {
@@ -265,17 +267,17 @@ std::vector<Chart> bench_charts(const std::string& title, const std::vector<Benc
   // values, which still separates the runs there, are secondary (bottom row).
   const std::vector<ChartPanel> panels{
       {bench_csv_column("rel_within_10"), "luminance within 10 % (primary)",
-       "% of pixels with |Y - Y_ref| <= 10 % of Y_ref", "[*:100]", "bottom right", std::nullopt},
+       "% of pixels with |Y - Y_ref| <= 10 % of Y_ref", "[*:100]", "bottom right", reach_targets},
       {bench_csv_column("rel_within_15"), "luminance within 15 % (primary)",
-       "% of pixels with |Y - Y_ref| <= 15 % of Y_ref", "[*:100]", "bottom right", std::nullopt},
+       "% of pixels with |Y - Y_ref| <= 15 % of Y_ref", "[*:100]", "bottom right", {}},
       {bench_csv_column("mean_ratio"), "mean ratio (1 is unbiased)", "mean Y / mean Y_ref", "[*:*]", "top right",
-       1.0},
+       {1.0}},
       {bench_csv_column("within_10"), "paper's display norm: within 10 %",
-       "% of pixels within 10 % of the display range", "[*:100]", "bottom right", std::nullopt},
+       "% of pixels within 10 % of the display range", "[*:100]", "bottom right", {}},
       {bench_csv_column("within_15"), "paper's display norm: within 15 %",
-       "% of pixels within 15 % of the display range", "[*:100]", "bottom right", std::nullopt},
+       "% of pixels within 15 % of the display range", "[*:100]", "bottom right", {}},
       {bench_csv_column("rmse"), "display RMSE (lower is better)", "RMS difference of the display values", "[0:*]",
-       "top right", std::nullopt}};
+       "top right", {}}};
   std::vector<Chart> charts;
   const auto add = [&](const std::string& file, const std::string& against, const std::string& column, double divisor,
                        const std::string& x_label, const std::string& x_format, bool with_path) {
@@ -339,6 +341,111 @@ std::string bench_csv(const std::vector<BenchRow>& rows) {
     out << "\n";
   }
   return out.str();
+}
+
+std::vector<double> parse_reach_list(const std::string& text) {
+  std::vector<double> targets;
+  for (const std::string& item : split_list(text, "--reach")) {
+    const std::optional<double> target = parse_positive(item);
+    if (!target || *target > 100.0) {
+      throw std::invalid_argument("--reach: \"" + item + "\" is not a percentage in (0, 100]");
+    }
+    for (const double t : targets) {
+      if (t == *target) throw std::invalid_argument("--reach lists " + item + " twice");
+    }
+    targets.push_back(*target);
+  }
+  return targets;
+}
+
+std::vector<BenchReach> bench_reach(const std::vector<BenchRow>& rows, const std::vector<double>& targets) {
+  std::vector<BenchReach> reach;
+  for (const double target : targets) {
+    for (const BenchMethod method : {BenchMethod::kLinear, BenchMethod::kClassical, BenchMethod::kPath}) {
+      BenchReach r;
+      r.target = target;
+      r.method = method;
+      bool any = false;
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (rows[i].run.method != method) continue;
+        any = true;
+        const double within = rows[i].metrics.rel_within_10;
+        r.best = std::max(r.best, within);
+        if (!(within >= target)) continue;
+        const auto seconds = [&](std::size_t k) { return rows[k].record["seconds_total"].get<double>(); };
+        if (!r.row || seconds(i) < seconds(*r.row)) r.row = i;
+      }
+      if (any) reach.push_back(r);
+    }
+  }
+  return reach;
+}
+
+namespace {
+
+// The path tracer's seconds to the same target, when it got there.
+std::optional<double> path_seconds(const std::vector<BenchRow>& rows, const std::vector<BenchReach>& reach,
+                                   double target) {
+  for (const BenchReach& r : reach) {
+    if (r.target == target && r.method == BenchMethod::kPath && r.row) {
+      return rows[*r.row].record["seconds_total"].get<double>();
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string reach_csv(const std::vector<BenchRow>& rows, const std::vector<BenchReach>& reach) {
+  std::ostringstream out;
+  out << "target,method,reached,seconds_total,parameters,rel_within_10,links,peak_rss_bytes,path_over_this\n";
+  for (const BenchReach& r : reach) {
+    out << format_parameter(r.target) << "," << bench_method_name(r.method) << "," << (r.row ? 1 : 0) << ",";
+    if (r.row) {
+      const BenchRow& row = rows[*r.row];
+      const nlohmann::json stats = row.record.contains("stats") ? row.record["stats"] : nlohmann::json();
+      const double seconds = row.record["seconds_total"].get<double>();
+      const std::optional<double> path = path_seconds(rows, reach, r.target);
+      out << seconds_cell(row.record, "seconds_total") << "," << row.run.label() << ","
+          << fixed(row.metrics.rel_within_10, 3) << "," << count_cell(stats, "links") << ","
+          << count_cell(row.record, "peak_rss_bytes") << ","
+          << (path && seconds > 0.0 ? fixed(*path / seconds, 3) : "");
+    } else {
+      out << ",," << fixed(r.best, 3) << ",,,";
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::vector<std::string> reach_summary(const std::vector<BenchRow>& rows, const std::vector<BenchReach>& reach) {
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; i < reach.size();) {
+    const double target = reach[i].target;
+    std::ostringstream line;
+    line << format_parameter(target) << " % within 10 %:";
+    std::ostringstream sooner;
+    const std::optional<double> path = path_seconds(rows, reach, target);
+    for (bool first = true; i < reach.size() && reach[i].target == target; ++i, first = false) {
+      const BenchReach& r = reach[i];
+      line << (first ? " " : ", ") << bench_method_name(r.method) << " ";
+      if (!r.row) {
+        line << "not reached (best " << fixed(r.best, 1) << " %)";
+        continue;
+      }
+      const BenchRow& row = rows[*r.row];
+      const double seconds = row.record["seconds_total"].get<double>();
+      line << fixed(seconds, 1) << " s (" << row.run.label() << ")";
+      if (path && r.method != BenchMethod::kPath && seconds > 0.0) {
+        const bool sooner_than_path = *path >= seconds;
+        sooner << "; " << bench_method_name(r.method) << " "
+               << fixed(sooner_than_path ? *path / seconds : seconds / *path, 1)
+               << (sooner_than_path ? "x sooner than" : "x slower than") << " the path tracer";
+      }
+    }
+    lines.push_back(line.str() + sooner.str());
+  }
+  return lines;
 }
 
 }  // namespace lhr

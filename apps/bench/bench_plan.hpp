@@ -97,6 +97,40 @@ std::string bench_csv(const std::vector<BenchRow>& rows);
 // of pixels within 10 % and 15 % against links, against seconds_total and
 // against peak memory, log x, one curve per method that has rows (the path
 // tracer has no links). title: the scene's name. No rows, no charts.
-std::vector<Chart> bench_charts(const std::string& title, const std::vector<BenchRow>& rows);
+// reach_targets: a dashed line at each on the rel_within_10 panels.
+std::vector<Chart> bench_charts(const std::string& title, const std::vector<BenchRow>& rows,
+                                const std::vector<double>& reach_targets = {});
+
+// Seconds to reach an accuracy (issue 13): for each method of the sweep, the
+// fastest of its finished runs whose relative norm (rel_within_10) is at
+// least a target, side by side with the other methods of the same sweep. The
+// figure is a measured run, not a fitted curve: the wall clock of a run that
+// got there, so at most what the method needs at the sweep's settings. A
+// method none of whose runs got there reports its best.
+struct BenchReach {
+  double target = 0.0;  // % of pixels within 10 %
+  BenchMethod method = BenchMethod::kLinear;
+  std::optional<std::size_t> row;  // index of the fastest run that reached it
+  double best = 0.0;               // the method's highest rel_within_10
+};
+
+// "90,95": each in (0, 100], none twice; std::invalid_argument naming --reach
+// and the bad item.
+std::vector<double> parse_reach_list(const std::string& text);
+
+// Per target in the order given, one entry per method that has rows (linear,
+// classical, path). A run's time is its seconds_total.
+std::vector<BenchReach> bench_reach(const std::vector<BenchRow>& rows, const std::vector<double>& targets);
+
+// reach.csv: target, method, reached (1/0), seconds_total, parameters,
+// rel_within_10, links, peak_rss_bytes, path_over_this (the path tracer's
+// seconds to the same target over this method's, where both got there);
+// fixed decimals, an empty cell where nothing applies.
+std::string reach_csv(const std::vector<BenchRow>& rows, const std::vector<BenchReach>& reach);
+
+// One line per target for the terminal: "95 % within 10 %: linear 12.3 s
+// (eps_link=10 eps_pixel=0.3), classical not reached (best 93.1 %), path
+// 40.2 s (spp=256); linear 3.3x sooner than the path tracer" (or "slower").
+std::vector<std::string> reach_summary(const std::vector<BenchRow>& rows, const std::vector<BenchReach>& reach);
 
 }  // namespace lhr

@@ -256,7 +256,13 @@ BenchOutcome run_bench(const Scene& scene, const Camera& camera, const BenchSett
     if (log) *log << result_text(*slots[i]) << std::endl;
   }
 
-  const std::vector<Chart> charts = bench_charts(scene_name(settings.scene), rows);
+  // Seconds to reach each target, once the sweep is whole: a method's
+  // fastest run to get there may be any of its runs.
+  const std::vector<BenchReach> reach = bench_reach(rows, settings.reach_targets);
+  write_text_atomically(dir / "reach.csv", reach_csv(rows, reach));
+  if (outcome.left.empty()) outcome.reach = reach_summary(rows, reach);
+
+  const std::vector<Chart> charts = bench_charts(scene_name(settings.scene), rows, settings.reach_targets);
   if (!charts.empty()) {
     write_text_atomically(dir / "charts.gp", gnuplot_script("bench.csv", 1, charts));
     if (draw_charts(dir / "charts.gp", charts)) {

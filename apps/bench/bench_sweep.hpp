@@ -8,6 +8,7 @@
 // DIR/reference.exr (.png)          path-traced reference, reused if present
 // DIR/runs/ID/                      one run: its outputs, log.txt, row.json
 // DIR/bench.csv, charts.gp, *.png   the table and its charts
+// DIR/reach.csv                     seconds each method took to reach each target
 
 #include <filesystem>
 #include <functional>
@@ -34,6 +35,7 @@ struct BenchSettings {
   int reference_max_spp = 4096;
   double max_seconds = 0.0;  // start no run after this long (0: no limit)
   ToneMapSettings tone;        // the metrics' tone map, as `lhr compare --scene` takes it
+  std::vector<double> reach_targets{90.0, 95.0};  // % within 10 %: seconds to reach each (reach.csv)
 };
 
 struct BenchOutcome {
@@ -43,6 +45,7 @@ struct BenchOutcome {
   bool interrupted = false;    // stop_requested ended it; finished rows are kept
   bool gnuplot_missing = false;
   std::vector<std::filesystem::path> charts;  // drawn
+  std::vector<std::string> reach;             // reach_summary's lines, once every run has finished
 };
 
 // scene and camera: what settings.scene loads to (for the coverage mask and

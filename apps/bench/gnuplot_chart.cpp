@@ -65,17 +65,22 @@ std::string gnuplot_script(const std::string& csv_file, int key_column, const st
         << "set key " << panel.key << "\n"
         << "set title " << quoted(panel.title) << " noenhanced\n"
         << "set ylabel " << quoted(panel.y_label) << " noenhanced\n";
-      if (panel.y_line) {
-        // An arrow spans the whole width; the undrawn function keeps the
-        // line's y inside the autoscaled range, the offsets off the border.
-        std::ostringstream y;
-        y << std::setprecision(15) << *panel.y_line;
-        s << "set offsets 0, 0, graph 0.05, graph 0.05\n"
-          << "set arrow 1 from graph 0, first " << y.str() << " to graph 1, first " << y.str()
-          << " nohead dt 2 lc rgb '#808080'\n"
-          << "plot " << y.str() << " with lines lt nodraw notitle,";
+      s << "unset arrow\n";
+      if (!panel.y_lines.empty()) {
+        // An arrow spans the whole width; the undrawn functions keep the
+        // lines' y inside the autoscaled range, the offsets off the border.
+        s << "set offsets 0, 0, graph 0.05, graph 0.05\n";
+        std::ostringstream plot;
+        for (std::size_t k = 0; k < panel.y_lines.size(); ++k) {
+          std::ostringstream y;
+          y << std::setprecision(15) << panel.y_lines[k];
+          s << "set arrow " << k + 1 << " from graph 0, first " << y.str() << " to graph 1, first " << y.str()
+            << " nohead dt 2 lc rgb '#808080'\n";
+          plot << " " << y.str() << " with lines lt nodraw notitle,";
+        }
+        s << "plot" << plot.str();
       } else {
-        s << "set offsets 0, 0, 0, 0\nunset arrow 1\nplot";
+        s << "set offsets 0, 0, 0, 0\nplot";
       }
       for (std::size_t i = 0; i < chart.series.size(); ++i) {
         const ChartSeries& series = chart.series[i];

@@ -4,7 +4,6 @@
 // PNGs atomically. `lhr bench` draws its accuracy charts with it.
 
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +22,7 @@ struct ChartPanel {
   std::string y_label;
   std::string y_range = "[*:*]";  // gnuplot's syntax, e.g. "[*:100]"
   std::string key = "bottom right";  // where the legend goes
-  std::optional<double> y_line;      // a dashed horizontal line at this y (e.g. the ideal value)
+  std::vector<double> y_lines;       // a dashed horizontal line at each y (the ideal value, a target)
 };
 
 struct Chart {

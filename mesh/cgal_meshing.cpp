@@ -20,6 +20,8 @@
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
+#include "mesh/coarsen.hpp"
+
 namespace lhr {
 
 namespace {
@@ -59,6 +61,24 @@ constexpr double kCurvedTargetFraction = 0.75;
 // coarsened to the minimum density (docs/design.md §4, "Initial meshing").
 constexpr double kKeptBendDeg = 2.0;
 constexpr unsigned kRemeshIterations = 3;
+// CGAL's remeshing collapses short edges shortest first, taken from a
+// search tree of every short edge. On a finely divided curved surface their
+// lengths differ a little from place to place, so each collapse walks down
+// that tree and into a far part of the mesh, a chain of cache misses that
+// lengthens as the input outgrows the caches (10 µs a collapse at 10⁵
+// triangles, 23 µs at 10⁶, even toward twice the input's edge length); and
+// a collapse toward a target far above the input's edges gathers
+// a ring of many vertices and walks it at every later collapse. So a
+// surface whose fine edges are under a quarter of the target is first
+// coarsened by mesh/coarsen.hpp, in the mesh's own order, toward targets
+// halved from the final one down to this many fine edges; each sweep costs
+// a bounded amount per triangle, the sizes fall geometrically, and CGAL is
+// handed a mesh a few times finer than its target (docs/design.md §4,
+// "Curved surfaces").
+constexpr double kFinestPassInFineEdges = 2.0;
+// The edges that decide whether a surface is fine: the shortest tenth, so a
+// finely divided patch on an otherwise coarse surface is coarsened too.
+constexpr double kFineEdgeQuantile = 0.1;
 // A border or bend vertex whose two constrained edges turn by more
 // than this stays fixed, so coarsening the line does not cut its corners.
 constexpr double kConstraintCornerDeg = 30.0;
@@ -246,6 +266,21 @@ double edge_length(const TriMesh& mesh, boost::graph_traits<TriMesh>::edge_descr
   return mesh.calc_edge_length(mesh.edge_handle(e.halfedge()));
 }
 
+// The targets of the coarsening passes, smallest first: the final target
+// halved while the half is still kFinestPassInFineEdges fine edges long.
+std::vector<double> coarsening_targets(const TriMesh& mesh, double target) {
+  std::vector<double> lengths;
+  lengths.reserve(mesh.n_edges());
+  for (const auto e : mesh.edges()) lengths.push_back(mesh.calc_edge_length(e));
+  if (lengths.empty()) return {};
+  const auto fine = lengths.begin() + static_cast<std::ptrdiff_t>(kFineEdgeQuantile * (lengths.size() - 1));
+  std::nth_element(lengths.begin(), fine, lengths.end());
+  std::vector<double> targets;
+  for (double t = 0.5 * target; *fine > 0.0 && t >= kFinestPassInFineEdges * *fine; t *= 0.5) targets.push_back(t);
+  std::reverse(targets.begin(), targets.end());
+  return targets;
+}
+
 }  // namespace
 
 // Splits one polygon (counter-clockwise in the plane) into triangles: a fan
@@ -318,8 +353,8 @@ RegionMesh refine_region(const ConstrainedRegion& constraints, const PointLocato
   return region_faces(cdt);
 }
 
-void remesh_isotropic(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed,
-                      MeshingCheckpoint& checkpoint) {
+std::vector<RemeshPass> remesh_isotropic(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed,
+                                         MeshingCheckpoint& checkpoint) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   mesh.request_vertex_status();
   mesh.request_edge_status();
@@ -353,6 +388,15 @@ void remesh_isotropic(TriMesh& mesh, double h, const std::vector<TriMesh::Vertex
   }
 
   const double target_length = kCurvedTargetFraction * h;
+  std::vector<RemeshPass> passes;
+  const CoarseningConstraints constraints{constrained_edge.prop, constrained_vertex.prop};
+  for (const double t : coarsening_targets(mesh, target_length)) {
+    passes.push_back({t, mesh.n_faces()});
+    collapse_short_edges(mesh, t, constraints, checkpoint);
+    mesh.garbage_collection();
+  }
+  checkpoint();
+  passes.push_back({target_length, mesh.n_faces()});
   PMP::isotropic_remeshing(faces(mesh), target_length, mesh,
                            CGAL::parameters::number_of_iterations(kRemeshIterations)
                                .edge_is_constrained_map(constrained_edge)
@@ -374,6 +418,7 @@ void remesh_isotropic(TriMesh& mesh, double h, const std::vector<TriMesh::Vertex
   }
   mesh.remove_property(constrained_edge.prop);
   mesh.remove_property(constrained_vertex.prop);
+  return passes;
 }
 
 }  // namespace lhr

@@ -49,12 +49,21 @@ struct RegionMesh {
 RegionMesh refine_region(const ConstrainedRegion& constraints, const PointLocator& region, double shape_bound,
                          double size_bound);
 
+// One pass of a curved surface's remeshing, a coarsening sweep
+// (mesh/coarsen.hpp) or, last, CGAL's isotropic remeshing: its target edge
+// length and how many triangles it was handed.
+struct RemeshPass {
+  double target_length = 0.0;
+  std::size_t faces = 0;
+};
+
 // Isotropic remeshing of a curved surface toward edges of h, then every edge
 // longer than h split. The border and the input's bends stay lines of the
 // mesh; `fixed` vertices (the ends of seam edges, which another surface
-// shares) are neither moved nor removed. Leaves deleted elements for
-// garbage collection.
-void remesh_isotropic(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed,
-                      MeshingCheckpoint& checkpoint);
+// shares) are neither moved nor removed. A surface far finer than h is
+// first coarsened in passes toward halved targets; returns every pass, the
+// final one last. Leaves deleted elements for garbage collection.
+std::vector<RemeshPass> remesh_isotropic(TriMesh& mesh, double h, const std::vector<TriMesh::VertexHandle>& fixed,
+                                         MeshingCheckpoint& checkpoint);
 
 }  // namespace lhr

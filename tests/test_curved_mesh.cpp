@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <set>
@@ -16,7 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "mesh/cgal_meshing.hpp"
 #include "mesh/initial_mesh.hpp"
+#include "mesh/meshing_checkpoint.hpp"
 #include "scene_fixtures.hpp"
 
 namespace lhr {
@@ -156,17 +159,14 @@ TEST(CurvedMeshing, SeamVerticesSharedWithAnotherSurfaceStay) {
   EXPECT_LT(free_output, free_input);
 }
 
-// A height field finely tessellated (like a terrain scan or a subdivided
-// Blender plane): its border has many more vertices than h asks for. When
-// the border was kept whole, the remesher fanned long thin triangles onto
-// it, some with a vertex within 1e-6 of the opposite edge's line, which
-// `lhr validate` rejects and on which Embree aborts.
-Surface fine_terrain(int n) {
+// The unit square divided into n × n squares, each split into two
+// triangles, lifted to z(x, y).
+Surface height_field(const std::string& name, int n, const std::function<double(double, double)>& z) {
   std::vector<Vec3> points;
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
       const double x = static_cast<double>(i) / n, y = static_cast<double>(j) / n;
-      points.emplace_back(x, y, 0.02 * std::sin(3.0 * x) * std::cos(2.0 * y) + 0.01 * std::sin(7.0 * x + 5.0 * y));
+      points.emplace_back(x, y, z(x, y));
     }
   }
   std::vector<std::vector<int>> polygons;
@@ -177,7 +177,18 @@ Surface fine_terrain(int n) {
       polygons.push_back({a, d, c});
     }
   }
-  return make_surface("terrain", points, polygons, false);
+  return make_surface(name, points, polygons, false);
+}
+
+// A height field finely tessellated (like a terrain scan or a subdivided
+// Blender plane): its border has many more vertices than h asks for. When
+// the border was kept whole, the remesher fanned long thin triangles onto
+// it, some with a vertex within 1e-6 of the opposite edge's line, which
+// `lhr validate` rejects and on which Embree aborts.
+Surface fine_terrain(int n) {
+  return height_field("terrain", n, [](double x, double y) {
+    return 0.02 * std::sin(3.0 * x) * std::cos(2.0 * y) + 0.01 * std::sin(7.0 * x + 5.0 * y);
+  });
 }
 
 TEST(CurvedMeshing, FinelyDividedTerrainGetsNoSliversAtItsBorder) {
@@ -200,6 +211,51 @@ TEST(CurvedMeshing, FinelyDividedTerrainGetsNoSliversAtItsBorder) {
   int off_input = 0;
   boundary_length_on_input(s, m, &off_input);
   EXPECT_EQ(off_input, 0);
+}
+
+TriMesh tri_mesh(const Surface& s) {
+  TriMesh m;
+  std::vector<TriMesh::VertexHandle> v;
+  for (const Vec3& p : s.points) v.push_back(m.add_vertex(p));
+  for (const auto& poly : s.polygons) m.add_face(v[poly[0]], v[poly[1]], v[poly[2]]);
+  return m;
+}
+
+// How many equilateral triangles with edges t cover `area`.
+double equilateral_count(double area, double t) { return area / (std::sqrt(3.0) / 4.0 * t * t); }
+
+// Remeshing straight to h a surface whose edges are k times shorter made
+// each collapse gather about k input vertices around the vertex it keeps and
+// walk that ring at every later collapse: a cost per input triangle growing
+// with k, 18 times the time for 10 times the triangles (issue 14). Such a
+// surface is coarsened first, and no remeshing pass is handed more than a
+// bounded multiple of the triangles its target asks for, whatever the input's
+// size (docs/design.md §4, "Curved surfaces"). The bound: a pass starts at
+// most 4 fine edges from its target, where a grid of right triangles holds
+// 0.866 · 4² ≈ 14 times the equilateral count.
+TEST(CurvedMeshing, NoRemeshingPassIsHandedFarMoreTrianglesThanItsTargetAsksFor) {
+  const Surface s = fine_terrain(150);  // 45 000 triangles, edges of 1/150
+  TriMesh m = tri_mesh(s);
+  const std::function<void()> none;
+  MeshingCheckpoint checkpoint(none);
+  const double h = 0.25;
+  const std::vector<RemeshPass> passes = remesh_isotropic(m, h, {}, checkpoint);
+  ASSERT_GE(passes.size(), 2u) << "a surface 37 times finer than h is coarsened before the final pass";
+  EXPECT_EQ(passes.front().faces, s.polygons.size());
+  EXPECT_DOUBLE_EQ(passes.back().target_length, 0.75 * h);
+  for (const RemeshPass& p : passes) {
+    std::cout << "pass to " << p.target_length << ": " << p.faces << " triangles, "
+              << p.faces / equilateral_count(fan_area(s), p.target_length) << " times its target's\n";
+    EXPECT_LE(p.faces, 16.0 * equilateral_count(fan_area(s), p.target_length)) << "pass to " << p.target_length;
+  }
+  m.garbage_collection();
+  EXPECT_LE(max_edge_length(m), h * (1 + 1e-6));
+  EXPECT_NEAR(mesh_area(m), fan_area(s), 1e-3 * fan_area(s));
+
+  // A surface already near its target goes straight to the final pass.
+  const Surface ball = sphere(2, false);
+  TriMesh coarse = tri_mesh(ball);
+  EXPECT_EQ(remesh_isotropic(coarse, 0.2, {}, checkpoint).size(), 1u);
 }
 
 // docs/design.md §4, "Initial meshing": an input edge where the surface bends
@@ -234,6 +290,32 @@ TEST(CurvedMeshing, BendsStayEdgesSoEveryTriangleLiesInAnInputFacet) {
   }
   // The surface is still meshed to the minimum density, not left as input.
   EXPECT_LE(max_edge_length(m), 0.2 * (1 + 1e-6));
+}
+
+// The coarsening before the remeshing (docs/design.md §4, "Curved
+// surfaces") keeps a bend of a finely divided surface as a line too: a
+// sheet of 2 · 120² triangles folded by 10° along x = 1/2, remeshed to an h
+// 30 times its edges, still has every triangle on one side of the fold.
+TEST(CurvedMeshing, FinelyDividedSheetKeepsItsFold) {
+  const double slope = std::tan(10.0 * kPi / 180.0);
+  const auto height = [&](double x) { return x > 0.5 ? slope * (x - 0.5) : 0.0; };
+  const Surface s = height_field("fold", 120, [&](double x, double) { return height(x); });
+  const MeshingOptions o = with_h(0.25);
+  const TriMesh m = mesh_surface(s, o);
+  ASSERT_GT(m.n_faces(), 0u);
+  EXPECT_LE(max_edge_length(m), o.max_edge * (1 + 1e-6));
+  EXPECT_NEAR(mesh_area(m), fan_area(s), 1e-9 * fan_area(s));
+  const auto on_flat = [&](const Vec3& p) { return p[0] <= 0.5 + 1e-12 && std::abs(p[2]) < 1e-12; };
+  const auto on_tilted = [&](const Vec3& p) { return p[0] >= 0.5 - 1e-12 && std::abs(p[2] - height(p[0])) < 1e-12; };
+  int across = 0;
+  for (const auto f : m.faces()) {
+    const auto c = corners(m, f);
+    across += !std::all_of(c.begin(), c.end(), on_flat) && !std::all_of(c.begin(), c.end(), on_tilted);
+  }
+  EXPECT_EQ(across, 0) << "triangles cut across the fold";
+  int off_input = 0;
+  boundary_length_on_input(s, m, &off_input);
+  EXPECT_EQ(off_input, 0);
 }
 
 TEST(CurvedMeshing, Deterministic) {

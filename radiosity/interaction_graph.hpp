@@ -5,6 +5,7 @@
 // those leaves, each with the links from S's elements and S's contribution
 // there. The graph owns no geometry: node and vertex ids are R's.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -98,9 +99,16 @@ class InteractionGraph {
   // each vertex's links in their order, and gives back the room the tables
   // grew into during the pass.
   void pack_links();
-  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l.
-  Rgb& gathered(int i) { return gathered_[i]; }
-  const Rgb& gathered(int i) const { return gathered_[i]; }
+  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l,
+  // summed in double and kept in float, the precision of the coefficients
+  // it comes from (TransportCoefficients).
+  Rgb gathered(int i) const {
+    const auto& g = gathered_[i];
+    return {g[0], g[1], g[2]};
+  }
+  void set_gathered(int i, const Rgb& value) {
+    for (int c = 0; c < 3; ++c) gathered_[i][c] = static_cast<float>(value[c]);
+  }
 
   // A new vertex and the vertex whose shooter elements it starts from.
   struct NewVertex {
@@ -146,7 +154,7 @@ class InteractionGraph {
   std::vector<GraphLink> links_;
   std::vector<std::uint32_t> first_;
   std::unique_ptr<std::unordered_map<int, std::vector<GraphLink>>> growing_;
-  std::vector<Rgb> gathered_;
+  std::vector<std::array<float, 3>> gathered_;
 };
 
 }  // namespace lhr

@@ -336,7 +336,7 @@ void LinearSolver::gather() {
           if (f != 0.0f) sum += static_cast<double>(f) * shooter_value(s, link.shooter, l);
         }
       }
-      g.gathered(i) = sum;
+      g.set_gathered(i, sum);
       unoccluded[g.vertex(i)] = static_cast<float>(ff);
     }
   });

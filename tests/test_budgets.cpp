@@ -304,19 +304,7 @@ TEST(Budgets, MaxMemoryTakesSizesAndRejectsNonsense) {
 // float; docs/robustness.md, "Budgets").
 TEST(Budgets, AGraphOnItsReceiversRootsHoldsNoSpareRoom) {
   constexpr int kSide = 21;  // 441 vertices, 800 roots: not a power of two
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  for (int j = 0; j < kSide; ++j) {
-    for (int i = 0; i < kSide; ++i) vh.push_back(mesh.add_vertex(Vec3(i, 0, j)));
-  }
-  for (int j = 0; j + 1 < kSide; ++j) {
-    for (int i = 0; i + 1 < kSide; ++i) {
-      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
-      ASSERT_TRUE(mesh.add_face(vh[a], vh[c], vh[d]).is_valid());
-      ASSERT_TRUE(mesh.add_face(vh[a], vh[d], vh[b]).is_valid());
-    }
-  }
-  SurfaceHierarchy receiver(std::move(mesh));
+  SurfaceHierarchy receiver = test::grid_hierarchy(kSide);
   // Other graphs have refined the receiver already: its vertex and node
   // tables are longer than this graph needs.
   for (int f = 0; f < 50; ++f) receiver.split(receiver.root(f));

@@ -15,26 +15,10 @@
 
 #include "mesh/hierarchy.hpp"
 #include "radiosity/interaction_graph.hpp"
+#include "scene_fixtures.hpp"
 
 namespace lhr {
 namespace {
-
-// A side × side grid of vertices in the plane y = 0, two roots per square.
-SurfaceHierarchy grid(int side) {
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  for (int j = 0; j < side; ++j) {
-    for (int i = 0; i < side; ++i) vh.push_back(mesh.add_vertex(Vec3(i, 0, j)));
-  }
-  for (int j = 0; j + 1 < side; ++j) {
-    for (int i = 0; i + 1 < side; ++i) {
-      const int a = j * side + i, b = a + 1, c = a + side, d = c + 1;
-      EXPECT_TRUE(mesh.add_face(vh[a], vh[c], vh[d]).is_valid());
-      EXPECT_TRUE(mesh.add_face(vh[a], vh[d], vh[b]).is_valid());
-    }
-  }
-  return SurfaceHierarchy(std::move(mesh));
-}
 
 // Per vertex the links' offset and the gathered value (three floats); no
 // table per root, per node or per receiver vertex.
@@ -43,7 +27,7 @@ std::size_t unsplit_bound(std::size_t vertices) {
 }
 
 TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {
-  SurfaceHierarchy receiver = grid(21);  // 441 vertices, 800 roots
+  SurfaceHierarchy receiver = test::grid_hierarchy(21);  // 441 vertices, 800 roots
   // Other graphs have refined the receiver already.
   for (int f = 0; f < 50; ++f) receiver.split(receiver.root(f));
   const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
@@ -112,7 +96,7 @@ void expect_lookups_match_the_cut(const InteractionGraph& g, const SurfaceHierar
 }
 
 TEST(InteractionGraphTables, LookupsFollowTheCutOverARandomSplitSequence) {
-  SurfaceHierarchy receiver = grid(9);
+  SurfaceHierarchy receiver = test::grid_hierarchy(9);
   const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
   // Two graphs on one receiver split it in turn, each where it likes, so
   // each holds nodes and vertices the other made and skips others.
@@ -149,7 +133,7 @@ TEST(InteractionGraphTables, LookupsFollowTheCutOverARandomSplitSequence) {
 }
 
 TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSpareRoom) {
-  SurfaceHierarchy receiver = grid(5);  // 25 vertices, 32 roots
+  SurfaceHierarchy receiver = test::grid_hierarchy(5);  // 25 vertices, 32 roots
   InteractionGraph g(0, 0, receiver);
   g.set_every_vertex_link({kWholeSurface, {}});
   const std::size_t unsplit = g.bytes();

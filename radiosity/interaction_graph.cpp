@@ -6,51 +6,64 @@
 
 namespace lhr {
 
-InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, const SurfaceHierarchy& receiver)
-    : shooter_(shooter_surface), receiver_(receiver_surface) {
+InteractionGraph::Start::Start(const SurfaceHierarchy& receiver) {
+  roots.resize(receiver.num_roots());
+  for (std::size_t f = 0; f < roots.size(); ++f) roots[f] = receiver.root(static_cast<int>(f));
+  VertexId last = -1;
+  for (NodeId root : roots) {
+    for (VertexId v : receiver.corners(root)) last = std::max(last, v);
+  }
+  index.assign(static_cast<std::size_t>(last + 1), -1);
+  vertices.reserve(index.size());
+  for (NodeId root : roots) {
+    for (VertexId v : receiver.corners(root)) {
+      if (index[v] >= 0) continue;
+      index[v] = static_cast<std::int32_t>(vertices.size());
+      vertices.push_back(v);
+    }
+  }
+  vertices.shrink_to_fit();
+}
+
+std::size_t InteractionGraph::Start::bytes() const {
+  return sizeof(*this) + roots.capacity() * sizeof(NodeId) + vertices.capacity() * sizeof(VertexId) +
+         index.capacity() * sizeof(std::int32_t);
+}
+
+InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, std::shared_ptr<const Start> start)
+    : shooter_(shooter_surface),
+      receiver_(receiver_surface),
+      start_(std::move(start)),
+      num_start_(static_cast<int>(start_->vertices.size())) {
   // Sized exactly: a scene of many small shooters holds one graph per
   // shooter and receiver, most of which never split, and growth by doubling
   // would leave up to half of each graph's per-vertex tables unused.
-  std::vector<VertexId> initial;
-  initial.reserve(3 * receiver.num_roots());
-  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
-    for (VertexId v : receiver.corners(receiver.root(static_cast<int>(f)))) initial.push_back(v);
-  }
-  std::sort(initial.begin(), initial.end());
-  initial.erase(std::unique(initial.begin(), initial.end()), initial.end());
-  vertices_.reserve(initial.size());
-  first_.reserve(initial.size() + 1);
-  gathered_.reserve(initial.size());
-  if (!initial.empty()) index_.reserve(static_cast<std::size_t>(initial.back()) + 1);
-  leaves_.reserve(receiver.num_roots());
-  state_.reserve(receiver.num_roots());
-  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
-    set_state(receiver.root(static_cast<int>(f)), NodeState::kLeaf);
-    for (VertexId v : receiver.corners(receiver.root(static_cast<int>(f)))) {
-      if (index_of(v) < 0) add_vertex(v);
-    }
-  }
+  first_.assign(start_->vertices.size() + 1, 0);
+  gathered_.assign(start_->vertices.size(), {0, 0, 0});
 }
 
 void InteractionGraph::set_state(NodeId n, NodeState s) {
-  if (static_cast<std::size_t>(n) >= state_.size()) state_.resize(static_cast<std::size_t>(n) + 1, 0);
-  if (static_cast<NodeState>(state_[n]) == NodeState::kLeaf) {
+  const auto k = static_cast<std::size_t>(n);
+  if (k >= 4 * state_.size()) state_.resize(k / 4 + 1, 0);
+  if (state(n) == NodeState::kLeaf) {
     // The last leaf takes the removed one's place: O(1) after the search.
     auto it = std::find(leaves_.begin(), leaves_.end(), n);
     *it = leaves_.back();
     leaves_.pop_back();
   }
   if (s == NodeState::kLeaf) leaves_.push_back(n);
-  state_[n] = static_cast<std::uint8_t>(s);
+  const unsigned shift = 2 * (k & 3);
+  state_[k >> 2] = static_cast<std::uint8_t>((state_[k >> 2] & ~(3u << shift)) | (static_cast<unsigned>(s) << shift));
 }
 
 int InteractionGraph::add_vertex(VertexId v) {
-  const int i = static_cast<int>(vertices_.size());
+  const int i = static_cast<int>(num_vertices());
   vertices_.push_back(v);
-  if (static_cast<std::size_t>(v) >= index_.size()) index_.resize(static_cast<std::size_t>(v) + 1, -1);
-  index_[v] = i;
+  const std::size_t k = static_cast<std::size_t>(v) - start_->index.size();
+  if (k >= index_.size()) index_.resize(k + 1, -1);
+  index_[k] = i;
   first_.push_back(first_.back());
-  gathered_.emplace_back(0, 0, 0);
+  gathered_.push_back({0, 0, 0});
   return i;
 }
 
@@ -65,6 +78,15 @@ NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& recei
 
 bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created) {
   if (state(n) != NodeState::kLeaf) return false;
+  if (state_.empty()) {
+    // The first split: the cut stops being R's roots, in their order.
+    leaves_ = start_->roots;
+    state_.assign((leaves_.size() + 3) / 4, 0);
+    for (NodeId root : leaves_) {
+      const auto k = static_cast<std::size_t>(root);
+      state_[k >> 2] |= static_cast<std::uint8_t>(static_cast<unsigned>(NodeState::kLeaf) << (2 * (k & 3)));
+    }
+  }
   if (receiver.is_leaf(n)) receiver.split(n);
   // R is restricted, so n now has a same-level neighbour across every inner
   // edge; a graph leaf coarser than n across an edge would end up two levels
@@ -91,18 +113,20 @@ bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<N
 }
 
 void InteractionGraph::set_every_vertex_link(const GraphLink& link) {
-  if (!links_.empty() || !growing_.empty()) {
+  if (!links_.empty() || growing_) {
     throw std::logic_error("InteractionGraph::set_every_vertex_link: the graph has links already");
   }
-  if (vertices_.size() > std::numeric_limits<std::uint32_t>::max()) {
+  const std::size_t n = num_vertices();
+  if (n > std::numeric_limits<std::uint32_t>::max()) {
     throw std::length_error("InteractionGraph: more than 2^32 links in one graph");
   }
-  links_.assign(vertices_.size(), link);
-  for (std::size_t i = 0; i < vertices_.size(); ++i) first_[i + 1] = static_cast<std::uint32_t>(i + 1);
+  links_.assign(n, link);
+  for (std::size_t i = 0; i < n; ++i) first_[i + 1] = static_cast<std::uint32_t>(i + 1);
 }
 
 void InteractionGraph::add_link(int i, const GraphLink& link) {
-  auto [it, added] = growing_.try_emplace(i);
+  if (!growing_) growing_ = std::make_unique<std::unordered_map<int, std::vector<GraphLink>>>();
+  auto [it, added] = growing_->try_emplace(i);
   if (added) {
     const std::span<const GraphLink> packed(links_.data() + first_[i], first_[i + 1] - first_[i]);
     it->second.assign(packed.begin(), packed.end());
@@ -112,13 +136,22 @@ void InteractionGraph::add_link(int i, const GraphLink& link) {
 
 void InteractionGraph::set_links(int i, std::span<const GraphLink> links) {
   if (!this->links(i).empty()) throw std::logic_error("InteractionGraph::set_links: the vertex has links already");
-  growing_[i].assign(links.begin(), links.end());
+  if (!growing_) growing_ = std::make_unique<std::unordered_map<int, std::vector<GraphLink>>>();
+  (*growing_)[i].assign(links.begin(), links.end());
 }
 
 void InteractionGraph::pack_links() {
-  if (growing_.empty()) return;
+  // Splits grew these by doubling; a graph that splits no more keeps them
+  // as they stand.
+  for (auto* table : {&leaves_, &vertices_, &index_}) table->shrink_to_fit();
+  state_.shrink_to_fit();
+  gathered_.shrink_to_fit();
+  if (!growing_) {
+    first_.shrink_to_fit();
+    return;
+  }
   std::size_t total = links_.size();
-  for (const auto& [i, list] : growing_) total += list.size() - (first_[i + 1] - first_[i]);
+  for (const auto& [i, list] : *growing_) total += list.size() - (first_[i + 1] - first_[i]);
   if (total > std::numeric_limits<std::uint32_t>::max()) {
     throw std::length_error("InteractionGraph: more than 2^32 links in one graph");
   }
@@ -128,36 +161,42 @@ void InteractionGraph::pack_links() {
   first.reserve(first_.size());
   first.push_back(0);
   for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
-    if (const auto it = growing_.find(static_cast<int>(i)); it != growing_.end()) {
+    if (const auto it = growing_->find(static_cast<int>(i)); it != growing_->end()) {
       packed.insert(packed.end(), it->second.begin(), it->second.end());
     } else {
       packed.insert(packed.end(), links_.begin() + first_[i], links_.begin() + first_[i + 1]);
     }
     first.push_back(static_cast<std::uint32_t>(packed.size()));
   }
-  growing_ = {};
+  growing_.reset();
   links_ = std::move(packed);
   first_ = std::move(first);
 }
 
 std::size_t InteractionGraph::num_links() const {
   std::size_t n = links_.size();
-  for (const auto& [i, list] : growing_) n += list.size() - (first_[i + 1] - first_[i]);
+  if (!growing_) return n;
+  for (const auto& [i, list] : *growing_) n += list.size() - (first_[i + 1] - first_[i]);
   return n;
 }
 
 std::size_t InteractionGraph::link_bytes() const {
   std::size_t bytes = links_.capacity() * sizeof(GraphLink);
-  for (const auto& [i, list] : growing_) bytes += list.capacity() * sizeof(GraphLink);
+  if (!growing_) return bytes;
+  for (const auto& [i, list] : *growing_) bytes += list.capacity() * sizeof(GraphLink);
   return bytes;
 }
 
 std::size_t InteractionGraph::bytes() const {
-  return sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
-         vertices_.capacity() * sizeof(VertexId) +
-         index_.capacity() * sizeof(std::int32_t) +
-         first_.capacity() * sizeof(std::uint32_t) + gathered_.capacity() * sizeof(Rgb) +
-         growing_.size() * (sizeof(std::vector<GraphLink>) + 2 * sizeof(void*));
+  std::size_t bytes = sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
+                      vertices_.capacity() * sizeof(VertexId) + index_.capacity() * sizeof(std::int32_t) +
+                      first_.capacity() * sizeof(std::uint32_t) + gathered_.capacity() * sizeof(gathered_[0]);
+  if (growing_) {
+    // The map's bucket array and one node (key, vector, next pointer) per list.
+    bytes += sizeof(*growing_) + growing_->bucket_count() * sizeof(void*) +
+             growing_->size() * (sizeof(std::pair<const int, std::vector<GraphLink>>) + sizeof(void*));
+  }
+  return bytes;
 }
 
 }  // namespace lhr

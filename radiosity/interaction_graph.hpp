@@ -5,7 +5,9 @@
 // those leaves, each with the links from S's elements and S's contribution
 // there. The graph owns no geometry: node and vertex ids are R's.
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <unordered_map>
 #include <utility>
@@ -32,37 +34,59 @@ class InteractionGraph {
  public:
   enum class NodeState : std::uint8_t { kOutside = 0, kLeaf = 1, kInterior = 2 };
 
-  // The graph starts on R's roots, every initial vertex a graph vertex (the
-  // minimum density of paper §4.1).
-  InteractionGraph(int shooter_surface, int receiver_surface, const SurfaceHierarchy& receiver);
+  // What every graph on one receiver starts from: R's roots, every initial
+  // vertex a graph vertex (the minimum density of paper §4.1). One copy is
+  // shared by all graphs on R: with many shooters (10 000 lamps over a
+  // floor, docs/robustness.md "Budgets") the graphs that never split would
+  // otherwise each hold the same root and vertex tables.
+  struct Start {
+    std::vector<NodeId> roots;       // 0 … num_roots − 1, the first leaves
+    std::vector<VertexId> vertices;  // the roots' corners, first seen first
+    std::vector<std::int32_t> index;  // per initial vertex id: its place in `vertices`, or −1
+    explicit Start(const SurfaceHierarchy& receiver);
+    std::size_t bytes() const;
+  };
+
+  InteractionGraph(int shooter_surface, int receiver_surface, std::shared_ptr<const Start> start);
+  InteractionGraph(int shooter_surface, int receiver_surface, const SurfaceHierarchy& receiver)
+      : InteractionGraph(shooter_surface, receiver_surface, std::make_shared<const Start>(receiver)) {}
+  const Start& start() const { return *start_; }
 
   int shooter_surface() const { return shooter_; }
   int receiver_surface() const { return receiver_; }
 
   NodeState state(NodeId n) const {
-    return static_cast<std::size_t>(n) < state_.size() ? static_cast<NodeState>(state_[n]) : NodeState::kOutside;
+    const auto k = static_cast<std::size_t>(n);
+    if (state_.empty()) return k < start_->roots.size() ? NodeState::kLeaf : NodeState::kOutside;
+    return k < 4 * state_.size() ? static_cast<NodeState>((state_[k >> 2] >> (2 * (k & 3))) & 3u)
+                                 : NodeState::kOutside;
   }
   // Graph leaves, in the order the splits left them (deterministic).
-  const std::vector<NodeId>& leaves() const { return leaves_; }
-  std::size_t num_leaves() const { return leaves_.size(); }
+  const std::vector<NodeId>& leaves() const { return state_.empty() ? start_->roots : leaves_; }
+  std::size_t num_leaves() const { return leaves().size(); }
   // The graph leaf containing R's node n (n or an ancestor), or kNoNode if n
   // is above the cut.
   NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
 
-  std::size_t num_vertices() const { return vertices_.size(); }
-  VertexId vertex(int i) const { return vertices_[i]; }
+  std::size_t num_vertices() const { return gathered_.size(); }
+  VertexId vertex(int i) const { return i < num_start_ ? start_->vertices[i] : vertices_[i - num_start_]; }
   // Index of R's vertex v in this graph, or -1.
-  int index_of(VertexId v) const { return static_cast<std::size_t>(v) < index_.size() ? index_[v] : -1; }
+  int index_of(VertexId v) const {
+    const auto k = static_cast<std::size_t>(v);
+    const std::size_t base = start_->index.size();
+    if (k < base) return start_->index[k];
+    return k - base < index_.size() ? index_[k - base] : -1;
+  }
   // Vertex i's links. A view: add_link() and set_links() move them.
   std::span<GraphLink> links(int i) {
-    if (!growing_.empty()) {
-      if (const auto it = growing_.find(i); it != growing_.end()) return it->second;
+    if (growing_) {
+      if (const auto it = growing_->find(i); it != growing_->end()) return it->second;
     }
     return {links_.data() + first_[i], first_[i + 1] - first_[i]};
   }
   std::span<const GraphLink> links(int i) const {
-    if (!growing_.empty()) {
-      if (const auto it = growing_.find(i); it != growing_.end()) return it->second;
+    if (growing_) {
+      if (const auto it = growing_->find(i); it != growing_->end()) return it->second;
     }
     return {links_.data() + first_[i], first_[i + 1] - first_[i]};
   }
@@ -72,11 +96,19 @@ class InteractionGraph {
   // Vertex i's links become `links` (a new vertex, which had none).
   void set_links(int i, std::span<const GraphLink> links);
   // Puts the lists that grew since the last call back into the one array,
-  // each vertex's links in their order.
+  // each vertex's links in their order, and gives back the room the tables
+  // grew into during the pass.
   void pack_links();
-  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l.
-  Rgb& gathered(int i) { return gathered_[i]; }
-  const Rgb& gathered(int i) const { return gathered_[i]; }
+  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l,
+  // summed in double and kept in float, the precision of the coefficients
+  // it comes from (TransportCoefficients).
+  Rgb gathered(int i) const {
+    const auto& g = gathered_[i];
+    return {g[0], g[1], g[2]};
+  }
+  void set_gathered(int i, const Rgb& value) {
+    for (int c = 0; c < 3; ++c) gathered_[i][c] = static_cast<float>(value[c]);
+  }
 
   // A new vertex and the vertex whose shooter elements it starts from.
   struct NewVertex {
@@ -90,7 +122,8 @@ class InteractionGraph {
   bool split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created);
 
   std::size_t num_links() const;
-  // Bytes of this graph's own storage: node states, vertex table, links.
+  // Bytes of this graph's own storage: node states, vertex tables, gathered
+  // values (links: link_bytes()). The shared Start is its owner's to count.
   std::size_t bytes() const;
   std::size_t link_bytes() const;
 
@@ -100,22 +133,28 @@ class InteractionGraph {
 
   int shooter_;
   int receiver_;
-  std::vector<std::uint8_t> state_;  // per R node
+  std::shared_ptr<const Start> start_;
+  int num_start_;  // start_->vertices.size(): graph vertices 0 … num_start_ − 1
+  // Two bits per R node up to the last one the cut has reached (4 per byte);
+  // empty, with leaves_, until the first split: the cut is then R's roots.
+  std::vector<std::uint8_t> state_;
   std::vector<NodeId> leaves_;
+  // The graph vertices after the start's, and per R vertex id from
+  // start_->index.size() on, its index here or -1: dense, 4 bytes per vertex
+  // R made since the start up to the last this graph holds, since lookups
+  // are on every oracle's path and direct.
   std::vector<VertexId> vertices_;
-  // Per R vertex: its index here or -1. Dense: 4 bytes per receiver vertex
-  // cost less than a hash table's nodes once a graph holds a few per cent of
-  // them, and lookups are direct.
   std::vector<std::int32_t> index_;
   // Every vertex's links in one array, vertex i's at [first_[i],
   // first_[i + 1]): a small vector per vertex cost a 24-byte header, an
   // allocation and its spare capacity, for lists of one to a few hundred
   // links. A list that grows during a refinement pass is copied out to
-  // growing_ and packed back in afterwards (pack_links).
+  // growing_ and packed back in afterwards (pack_links); the map itself is
+  // held only while some list grows.
   std::vector<GraphLink> links_;
-  std::vector<std::uint32_t> first_{0};
-  std::unordered_map<int, std::vector<GraphLink>> growing_;
-  std::vector<Rgb> gathered_;
+  std::vector<std::uint32_t> first_;
+  std::unique_ptr<std::unordered_map<int, std::vector<GraphLink>>> growing_;
+  std::vector<std::array<float, 3>> gathered_;
 };
 
 }  // namespace lhr

@@ -269,7 +269,9 @@ bool LinearSolver::link_new_shooters() {
       if ((r == s && scene.surfaces[s].planar) || !(max_channel(model_.material(r).reflectance) > 0)) continue;
       if (!may_exchange_light(scene.surfaces[s], scene.surfaces[r], eps)) continue;
       const int g = static_cast<int>(graphs_.size());
-      graphs_.emplace_back(s, r, model_.hierarchy(r));
+      if (starts_.size() < surfaces_.size()) starts_.resize(surfaces_.size());
+      if (!starts_[r]) starts_[r] = std::make_shared<const InteractionGraph::Start>(model_.hierarchy(r));
+      graphs_.emplace_back(s, r, starts_[r]);
       InteractionGraph& graph = graphs_.back();
       graph.set_every_vertex_link({kWholeSurface, {}});
       for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) pending.push_back({g, i, 0});
@@ -334,7 +336,7 @@ void LinearSolver::gather() {
           if (f != 0.0f) sum += static_cast<double>(f) * shooter_value(s, link.shooter, l);
         }
       }
-      g.gathered(i) = sum;
+      g.set_gathered(i, sum);
       unoccluded[g.vertex(i)] = static_cast<float>(ff);
     }
   });
@@ -476,6 +478,7 @@ void LinearSolver::collect_stats() {
     stats_.bytes_graphs += g.bytes();
     stats_.bytes_links += g.link_bytes();
   }
+  for (const auto& start : starts_) stats_.bytes_graphs += start ? start->bytes() : 0;
   for (const std::vector<float>& u : unoccluded_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
   for (const std::vector<float>& u : facet_spread_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
   stats_.nodes = stats_.leaves = 0;

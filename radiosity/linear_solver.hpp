@@ -232,6 +232,8 @@ class LinearSolver {
   LinearOptions options_;
   std::vector<SurfaceState> surfaces_;
   std::vector<InteractionGraph> graphs_;
+  // Per receiver surface, what its graphs start from (shared by them all).
+  std::vector<std::shared_ptr<const InteractionGraph::Start>> starts_;
   // Per graph and graph vertex: the importance of its hat function over the
   // graph's leaves (what a change of S's contribution there is worth).
   std::vector<std::vector<double>> graph_importance_;

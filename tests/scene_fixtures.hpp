@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/hierarchy.hpp"
 #include "mesh/initial_mesh.hpp"
 #include "mesh/scene.hpp"
 #include "mesh/surfaces.hpp"
@@ -58,6 +59,24 @@ inline Scene closed_cube(const Material& walls, const Material& top, const std::
 
 // Power absorbed by all surfaces: π ∫ (1 − ρ) E_in dA with E_in/π = (L − Le)/ρ,
 // the linear interpolant integrated exactly over each leaf.
+// A side × side grid of unit squares' corners in the plane y = 0, two roots
+// per square, as one hierarchy.
+inline SurfaceHierarchy grid_hierarchy(int side) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> vh;
+  for (int j = 0; j < side; ++j) {
+    for (int i = 0; i < side; ++i) vh.push_back(mesh.add_vertex(Vec3(i, 0, j)));
+  }
+  for (int j = 0; j + 1 < side; ++j) {
+    for (int i = 0; i + 1 < side; ++i) {
+      const int a = j * side + i, b = a + 1, c = a + side, d = c + 1;
+      EXPECT_TRUE(mesh.add_face(vh[a], vh[c], vh[d]).is_valid());
+      EXPECT_TRUE(mesh.add_face(vh[a], vh[d], vh[b]).is_valid());
+    }
+  }
+  return SurfaceHierarchy(std::move(mesh));
+}
+
 inline Rgb absorbed_power(const MeshedScene& model, const std::function<std::vector<Rgb>(int)>& vertex_values) {
   Rgb absorbed(0, 0, 0);
   for (int s = 0; s < model.num_surfaces(); ++s) {

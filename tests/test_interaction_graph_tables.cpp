@@ -1,0 +1,166 @@
+// An interaction graph's own tables (paper §5 reports graphs ≈ 30 % over what
+// they organise; BENCHMARKS.md, "Interaction graphs"): the graphs on one
+// receiver share its roots and initial vertices, a graph that never splits
+// holds only per-vertex values, and one that splits answers every lookup as
+// the cut it holds says, checked against the hierarchy itself.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "mesh/hierarchy.hpp"
+#include "radiosity/interaction_graph.hpp"
+#include "scene_fixtures.hpp"
+
+namespace lhr {
+namespace {
+
+// Per vertex the links' offset and the gathered value (three floats); no
+// table per root, per node or per receiver vertex.
+std::size_t unsplit_bound(std::size_t vertices) {
+  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint32_t) + vertices * 3 * sizeof(float);
+}
+
+TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {
+  SurfaceHierarchy receiver = test::grid_hierarchy(21);  // 441 vertices, 800 roots
+  // Other graphs have refined the receiver already.
+  for (int f = 0; f < 50; ++f) receiver.split(receiver.root(f));
+  const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
+  std::vector<InteractionGraph> graphs;
+  for (int s = 0; s < 100; ++s) graphs.emplace_back(s, 0, start);
+  const std::size_t vertices = 21 * 21;
+  ASSERT_EQ(start->vertices.size(), vertices);
+  ASSERT_EQ(start->roots.size(), receiver.num_roots());
+  for (const InteractionGraph& g : graphs) {
+    EXPECT_EQ(&g.start(), start.get());
+    ASSERT_EQ(g.num_vertices(), vertices);
+    ASSERT_EQ(g.num_leaves(), receiver.num_roots());
+    EXPECT_LE(g.bytes(), unsplit_bound(vertices));
+  }
+  // The roots are the leaves and every initial vertex is a graph vertex,
+  // first seen first; nothing the other graphs made is in this one.
+  const InteractionGraph& g = graphs.front();
+  std::vector<int> seen(receiver.num_vertices(), -1);
+  int next = 0;
+  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
+    const NodeId root = receiver.root(static_cast<int>(f));
+    EXPECT_EQ(g.leaves()[f], root);
+    EXPECT_EQ(g.state(root), InteractionGraph::NodeState::kLeaf);
+    for (VertexId v : receiver.corners(root)) {
+      if (seen[v] < 0) seen[v] = next++;
+    }
+  }
+  for (VertexId v = 0; v < static_cast<VertexId>(receiver.num_vertices()); ++v) {
+    EXPECT_EQ(g.index_of(v), seen[v]) << v;
+    if (seen[v] >= 0) {
+      EXPECT_EQ(g.vertex(seen[v]), v);
+    }
+  }
+  for (NodeId n = static_cast<NodeId>(receiver.num_roots()); n < static_cast<NodeId>(receiver.num_nodes()); ++n) {
+    EXPECT_EQ(g.state(n), InteractionGraph::NodeState::kOutside) << n;
+  }
+}
+
+// What the cut of a graph says about every node and vertex of R, from the
+// hierarchy alone: the leaves are disjoint and cover the roots, a node above
+// a leaf is interior, one below or beside the cut is outside, and the graph
+// vertices are the corners of its leaves, each at its own index.
+void expect_lookups_match_the_cut(const InteractionGraph& g, const SurfaceHierarchy& r) {
+  std::vector<InteractionGraph::NodeState> want(r.num_nodes(), InteractionGraph::NodeState::kOutside);
+  std::set<VertexId> corners;
+  for (NodeId leaf : g.leaves()) {
+    ASSERT_EQ(want[leaf], InteractionGraph::NodeState::kOutside) << "leaf twice: " << leaf;
+    want[leaf] = InteractionGraph::NodeState::kLeaf;
+    for (NodeId a = r.parent(leaf); a != kNoNode; a = r.parent(a)) {
+      ASSERT_NE(want[a], InteractionGraph::NodeState::kLeaf) << "a leaf above a leaf: " << a;
+      want[a] = InteractionGraph::NodeState::kInterior;
+    }
+    for (VertexId v : r.corners(leaf)) corners.insert(v);
+  }
+  for (NodeId n = 0; n < static_cast<NodeId>(r.num_nodes()); ++n) EXPECT_EQ(g.state(n), want[n]) << n;
+  for (NodeId n = static_cast<NodeId>(r.num_nodes()); n < static_cast<NodeId>(r.num_nodes()) + 10; ++n) {
+    EXPECT_EQ(g.state(n), InteractionGraph::NodeState::kOutside) << n;
+  }
+  EXPECT_EQ(g.state(kNoNode), InteractionGraph::NodeState::kOutside);
+  ASSERT_EQ(g.num_vertices(), corners.size());
+  for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) EXPECT_EQ(g.index_of(g.vertex(i)), i) << i;
+  for (VertexId v = 0; v < static_cast<VertexId>(r.num_vertices()) + 10; ++v) {
+    EXPECT_EQ(g.index_of(v) >= 0, corners.count(v) == 1) << v;
+  }
+  EXPECT_EQ(g.index_of(kNoVertex), -1);
+}
+
+TEST(InteractionGraphTables, LookupsFollowTheCutOverARandomSplitSequence) {
+  SurfaceHierarchy receiver = test::grid_hierarchy(9);
+  const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
+  // Two graphs on one receiver split it in turn, each where it likes, so
+  // each holds nodes and vertices the other made and skips others.
+  InteractionGraph a(0, 0, start), b(1, 0, start);
+  std::mt19937 random(11);
+  std::vector<InteractionGraph::NewVertex> created;
+  for (int step = 0; step < 300; ++step) {
+    InteractionGraph& g = step % 3 == 0 ? b : a;
+    const std::vector<NodeId> leaves = g.leaves();
+    const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
+    if (receiver.level(n) >= 4) continue;
+    const std::size_t before = g.num_vertices();
+    created.clear();
+    ASSERT_TRUE(g.split(n, receiver, created));
+    // Each new vertex is new to the graph, at the next index, and seeded by
+    // a vertex the graph held.
+    for (std::size_t k = 0; k < created.size(); ++k) {
+      EXPECT_EQ(created[k].index, static_cast<int>(before + k));
+      EXPECT_LT(created[k].seed, static_cast<int>(before));
+    }
+    if (step % 50 == 49) {
+      g.pack_links();
+      expect_lookups_match_the_cut(a, receiver);
+      expect_lookups_match_the_cut(b, receiver);
+    }
+  }
+  // Both cuts went deep, and apart.
+  EXPECT_GT(a.num_leaves(), 2 * receiver.num_roots());
+  EXPECT_GT(b.num_leaves(), receiver.num_roots());
+  EXPECT_NE(a.num_vertices(), b.num_vertices());
+  EXPECT_FALSE(a.split(kNoNode, receiver, created));
+  expect_lookups_match_the_cut(a, receiver);
+  expect_lookups_match_the_cut(b, receiver);
+}
+
+TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSpareRoom) {
+  SurfaceHierarchy receiver = test::grid_hierarchy(5);  // 25 vertices, 32 roots
+  InteractionGraph g(0, 0, receiver);
+  g.set_every_vertex_link({kWholeSurface, {}});
+  const std::size_t unsplit = g.bytes();
+  EXPECT_LE(unsplit, unsplit_bound(25));
+  // Splitting root 5 puts the last root in its place and the four children
+  // at the end, as a leaf list kept from the start would.
+  std::vector<InteractionGraph::NewVertex> created;
+  ASSERT_TRUE(g.split(receiver.root(5), receiver, created));
+  std::vector<NodeId> want;
+  for (std::size_t f = 0; f < receiver.num_roots(); ++f) want.push_back(receiver.root(static_cast<int>(f)));
+  want[5] = want.back();
+  want.pop_back();
+  for (int c = 0; c < 4; ++c) want.push_back(receiver.child(receiver.root(5), c));
+  EXPECT_EQ(g.leaves(), want);
+  for (const auto& nv : created) g.set_links(nv.index, std::vector<GraphLink>{{kWholeSurface, {}}});
+  g.pack_links();
+  // Packed: per leaf its id, per node two bits (R's nodes up to the last
+  // child), per new vertex its id and index entry (R's vertices from the
+  // start's on), per vertex the links' offset and gathered value.
+  const std::size_t vertices = g.num_vertices();
+  const std::size_t extra = vertices - 25;
+  const std::size_t bound = unsplit_bound(vertices) + g.num_leaves() * sizeof(NodeId) +
+                            (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
+                            (receiver.num_vertices() - 25) * sizeof(std::int32_t);
+  EXPECT_LE(g.bytes(), bound);
+  EXPECT_GT(g.bytes(), unsplit);
+}
+
+}  // namespace
+}  // namespace lhr

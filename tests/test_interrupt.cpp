@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -181,10 +182,12 @@ TEST(Interrupt, SignalMidMeshExitsCleanlyAndLeavesNoTemporary) {
 // signal: it exits 130 within `limit` seconds (where timings mean anything)
 // and writes nothing.
 void expect_mesh_stops_within(const std::filesystem::path& dir, const std::string& name,
-                              std::chrono::milliseconds delay, double limit) {
+                              std::chrono::milliseconds delay, double limit,
+                              const std::vector<std::string>& extra = {}) {
   std::filesystem::create_directories(dir / "out");
-  const Interrupted r = interrupt_run(
-      dir, {"mesh", (dir / name).string(), "--out", (dir / "out" / "mesh.ply").string()}, "", SIGTERM, delay);
+  std::vector<std::string> args{"mesh", (dir / name).string(), "--out", (dir / "out" / "mesh.ply").string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const Interrupted r = interrupt_run(dir, std::move(args), "", SIGTERM, delay);
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
   ::testing::Test::RecordProperty("seconds_to_stop", std::to_string(r.seconds_to_stop));
@@ -195,11 +198,14 @@ void expect_mesh_stops_within(const std::filesystem::path& dir, const std::strin
 }
 
 TEST(Interrupt, SignalMidCurvedMeshingStopsWithinASecond) {
-  // A terrain of 320 000 triangles, one curved surface: CGAL's remeshing of
-  // it is one call of seconds, which used to run to its end before the
-  // signal was seen (docs/robustness.md, "Interrupted runs").
+  // A terrain of 20 000 triangles, one curved surface, remeshed to edges of
+  // 0.05 (about 265 000 triangles): CGAL's remeshing of it is one call of
+  // seconds, which used to run to its end before the signal was seen
+  // (docs/robustness.md, "Interrupted runs"). The input is small and the
+  // output large, so the signal lands in the remeshing however fast the
+  // coarsening of a fine input has become.
   const auto dir = test::fresh_dir("interrupt_curved");
-  constexpr int kSide = 401;
+  constexpr int kSide = 101;
   std::string obj;
   obj.reserve(40u * kSide * kSide);
   char line[96];
@@ -218,7 +224,7 @@ TEST(Interrupt, SignalMidCurvedMeshingStopsWithinASecond) {
     }
   }
   test::write_text(dir / "terrain.obj", obj);
-  expect_mesh_stops_within(dir, "terrain.obj", std::chrono::milliseconds(1500), 1.0);
+  expect_mesh_stops_within(dir, "terrain.obj", std::chrono::milliseconds(1500), 1.0, {"--max-edge", "0.05"});
 }
 
 

@@ -182,7 +182,7 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
 
 void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std::array<Vec3, 3>> triangles,
                               std::span<const std::array<std::int32_t, 3>> corner_edge, const Vec3* approach,
-                              std::vector<double>& out) {
+                              std::vector<double>& out, std::span<const std::int32_t> members) {
   // Terms of the edges seen so far in this call, valid where their stamp is
   // this call's: nothing to clear between calls.
   thread_local std::vector<double> term;
@@ -192,9 +192,11 @@ void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std:
     std::fill(stamp.begin(), stamp.end(), 0U);
     call = 1;
   }
-  out.resize(triangles.size());
-  for (std::size_t j = 0; j < triangles.size(); ++j) {
-    const auto& t = triangles[j];
+  const std::size_t count = members.empty() ? triangles.size() : members.size();
+  out.resize(count);
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t row = members.empty() ? j : static_cast<std::size_t>(members[j]);
+    const auto& t = triangles[row];
     const TriangleView view = view_of(x, n, t);
     if (view != TriangleView::kContour) {
       out[j] = view == TriangleView::kZero ? 0.0 : point_triangle_form_factor(x, n, t, approach);
@@ -202,7 +204,7 @@ void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std:
     }
     double sum = 0.0;
     for (int k = 0; k < 3; ++k) {
-      const std::int32_t code = corner_edge[j][k];
+      const std::int32_t code = corner_edge[row][k];
       const auto id = static_cast<std::size_t>(code >> 1);
       const bool against = (code & 1) != 0;
       if (id >= term.size()) {

@@ -39,9 +39,11 @@ inline double point_triangle_form_factor(const Vec3& x, const Vec3& n, const std
 // 2·id + 1 where the triangle runs against the edge's own direction (any
 // direction, the same for every triangle using it). Triangles that
 // need clipping or a limit (x on or near them) take the general path.
+// `members`, when given, picks the triangles (and their rows of
+// `corner_edge`) out of `triangles`, in its order.
 void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std::array<Vec3, 3>> triangles,
                               std::span<const std::array<std::int32_t, 3>> corner_edge, const Vec3* approach,
-                              std::vector<double>& out);
+                              std::vector<double>& out, std::span<const std::int32_t> members = {});
 
 // Form factor from x of a planar region given only its outline: edges
 // (indices into `points`) running counter-clockwise around it seen from its

@@ -56,6 +56,9 @@ LinearSolver::LinearSolver(MeshedScene& model, LinearOptions options)
     SurfaceState& st = surfaces_[s];
     st.clusters = SurfaceClusters(model_, s);
     st.root_edges = root_corner_edges(model_.hierarchy(s));
+    std::vector<std::array<Vec3, 3>> corners(model_.hierarchy(s).num_roots());
+    for (std::size_t root = 0; root < corners.size(); ++root) corners[root] = model_.triangle(s, static_cast<NodeId>(root));
+    st.root_triangles = ShooterTriangleTable(corners);
     if (model_.scene().surfaces[s].planar) {
       st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters.tree, st.root_edges);
     }
@@ -496,7 +499,8 @@ void LinearSolver::collect_stats() {
     stats_.bytes_hierarchy += h.hierarchy_bytes();
     const SurfaceState& st = surfaces_[s];
     // The shooters above the roots: clusters, the roots' edge codes and the outlines.
-    stats_.bytes_hierarchy += st.root_edges.capacity() * sizeof(st.root_edges[0]) + st.outlines.bytes();
+    stats_.bytes_hierarchy += st.root_edges.capacity() * sizeof(st.root_edges[0]) + st.outlines.bytes() +
+                              st.root_triangles.bytes();
     stats_.bytes_hierarchy += st.clusters.bytes();
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +

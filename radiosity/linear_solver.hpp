@@ -27,6 +27,7 @@
 #include "radiosity/shooter_spread.hpp"
 #include "radiosity/solver_frame.hpp"
 #include "radiosity/tone_map.hpp"
+#include "radiosity/transport.hpp"
 
 namespace lhr {
 
@@ -146,6 +147,7 @@ class LinearSolver {
     std::vector<std::uint8_t> hidden;
     SurfaceClusters clusters;  // a cluster's radiance: the mean over it
     std::vector<std::array<std::int32_t, 3>> root_edges;  // root_corner_edges
+    ShooterTriangleTable root_triangles;                   // per root, for cluster links
     ClusterOutlines outlines;                              // planar surfaces only
     // What each node shoots with and how far that is from the radiance it
     // stands for; the same bound for each cluster's mean (shooter_spread.hpp).

@@ -5,6 +5,7 @@
 // form factors push() interpolates by.
 
 #include <algorithm>
+#include <cassert>
 #include <atomic>
 #include <cmath>
 #include <stdexcept>
@@ -143,29 +144,24 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
   if (is_cluster_element(shooter)) {
     const SurfaceState& st = surfaces_[s];
     const RootCluster& c = st.clusters.tree[cluster_index(shooter)];
-    std::vector<std::array<Vec3, 3>> triangles;
-    triangles.reserve(c.roots.size());
-    for (NodeId root : c.roots) triangles.push_back(model_.triangle(s, root));
+    const ShooterTriangles triangles{&st.root_triangles, c.roots};
     // docs/accuracy.md, "A bright part that sees more": the link carries the
     // cluster's mean as this receiver weights its roots, from the radiance
     // the cluster holds now.
+    assert(st.root_luminance.empty() || st.root_luminance.size() == st.root_triangles.size());
     const bool open = c.exposed_area > 0;
-    std::vector<double> value, openness;
-    value.reserve(c.roots.size());
-    openness.reserve(c.roots.size());
-    for (NodeId root : c.roots) {
-      const bool pulled = static_cast<std::size_t>(root) < st.root_luminance.size();
-      value.push_back(pulled ? st.root_luminance[root] : 0.0);
-      openness.push_back(open ? st.clusters.root_exposure[root] : 1.0);
-    }
-    ShooterShape shape{value, openness, luminance(st.clusters.radiance[cluster_index(shooter)])};
+    ShooterShape shape{st.root_luminance, open ? std::span<const double>(st.clusters.root_exposure) : std::span<const double>(),
+                       luminance(st.clusters.radiance[cluster_index(shooter)])};
     const ShooterShape* shape_in = st.root_luminance.empty() ? nullptr : &shape;
     const Surface& shooter_surface = model_.scene().surfaces[s];
     if (shooter == kWholeSurface && shooter_surface.planar) {
-      std::vector<std::vector<Vec3>> polygons;
-      for (const auto& polygon : shooter_surface.polygons) {
-        polygons.emplace_back();
-        for (int i : polygon) polygons.back().push_back(shooter_surface.points[i]);
+      // Reused across links: the input polygons are few, but allocating
+      // them at every link was a few per cent of a solve.
+      thread_local std::vector<std::vector<Vec3>> polygons;
+      polygons.resize(shooter_surface.polygons.size());
+      for (std::size_t k = 0; k < polygons.size(); ++k) {
+        polygons[k].clear();
+        for (int i : shooter_surface.polygons[k]) polygons[k].push_back(shooter_surface.points[i]);
       }
       return surface_transport(point, polygons, triangles, model_.rays(), sampling, rays, shape_in);
     }
@@ -178,10 +174,7 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
           outline_form_factor(point.x, point.normal, c.normal, points, st.outlines.of(cluster_index(shooter)));
       if (ff) return planar_shooter_transport(point, *ff, triangles, model_.rays(), sampling, rays, shape_in, true);
     }
-    std::vector<std::array<std::int32_t, 3>> edges;
-    edges.reserve(c.roots.size());
-    for (NodeId root : c.roots) edges.push_back(st.root_edges[root]);
-    return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in, edges);
+    return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in, st.root_edges);
   }
   return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
 }

@@ -53,18 +53,18 @@ struct DiscFormFactors {
   double weighing;
 };
 
-DiscFormFactors disc_form_factors(const Vec3& x, const Vec3& n, const Vec3& m, const std::array<Vec3, 3>& t,
-                                  const Vec3* approach) {
-  const Vec3 d = (t[0] + t[1] + t[2]) / 3.0 - x;
-  const double size2 = std::max({(t[1] - t[0]).sqrnorm(), (t[2] - t[1]).sqrnorm(), (t[0] - t[2]).sqrnorm()});
+DiscFormFactors disc_form_factors(const Vec3& x, const Vec3& n, const Vec3& m, const ShooterTriangleTable& table,
+                                  std::size_t row, const Vec3* approach) {
+  const Vec3 d = table.centroid[row] - x;
+  const double size2 = table.size2[row];
   const double r2 = d.sqrnorm();
   if (r2 < 4.0 * size2) {
-    const double exact = point_triangle_form_factor(x, n, t, approach);
+    const double exact = point_triangle_form_factor(x, n, table.corner[row], approach);
     return {exact, exact};
   }
   const double r = std::sqrt(r2), size = std::sqrt(size2);
   const double cos_y = std::clamp(-OpenMesh::dot(m, d) / r, 0.0, 1.0);
-  const double area = 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
+  const double area = table.area[row];
   const double disc = area * cos_y / (M_PI * r2 + area);
   return {disc * std::clamp((OpenMesh::dot(n, d) + size) / r, 0.0, 1.0),
           disc * std::clamp(OpenMesh::dot(n, d) / r, 0.0, 1.0)};
@@ -82,7 +82,7 @@ struct RayOutcome {
   bool clear;
 };
 
-double visible_fraction(const ReceiverPoint& receiver, std::span<const std::array<Vec3, 3>> triangles,
+double visible_fraction(const ReceiverPoint& receiver, const ShooterTriangles& triangles,
                         const std::vector<double>& cumulative, const RayCaster& rays,
                         const TransportSampling& sampling, std::uint64_t& ray_count,
                         std::vector<RayOutcome>* per_triangle = nullptr) {
@@ -97,7 +97,8 @@ double visible_fraction(const ReceiverPoint& receiver, std::span<const std::arra
         static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()),
         triangles.size() - 1);
     const TriangleSample ts = uniform_triangle_sample(sample_key(sampling.key, 2, i));
-    const Vec3 y = at(triangles[j], ts), ny = unit_normal(triangles[j]);
+    const std::size_t row = triangles.row(j);
+    const Vec3 y = at(triangles.table->corner[row], ts), ny = triangles.table->normal[row];
     if (kernel(origin, receiver.normal, y, ny) > 0) {
       segments.push_back({rays.lift(origin, receiver.normal), rays.lift(y, ny)});
       target.push_back(j);
@@ -259,19 +260,22 @@ double share(const std::vector<double>& cumulative, std::size_t j) {
 // from the ceiling; weighed by its form factor alone, it pulled the mean the
 // ceiling sees below what reaches it (docs/accuracy.md, "What a table hides").
 double shape_factor(const std::vector<double>& weighing, const std::vector<double>& drawing,
-                    const ShooterShape* shape, const std::vector<RayOutcome>& rays) {
+                    const ShooterShape* shape, const std::vector<RayOutcome>& rays,
+                    const ShooterTriangles& triangles) {
   if (shape == nullptr || !(shape->carried > 0.0)) return 1.0;
-  assert(shape->value.size() == weighing.size() && shape->openness.size() == weighing.size());
-  assert(drawing.size() == weighing.size());
+  assert(shape->value.size() == triangles.table->size());
+  assert(shape->openness.empty() || shape->openness.size() == triangles.table->size());
+  assert(drawing.size() == weighing.size() && weighing.size() == triangles.size());
   double weighted = 0.0, weight = 0.0;
   double lowest = std::numeric_limits<double>::infinity(), highest = 0.0;
   for (std::size_t j = 0; j < weighing.size(); ++j) {
-    const double w = share(weighing, j) * shape->openness[j];
-    weighted += w * shape->value[j];
+    const std::size_t row = triangles.row(j);
+    const double w = share(weighing, j) * shape->open(row);
+    weighted += w * shape->value[row];
     weight += w;
     if (w > 0.0) {
-      lowest = std::min(lowest, shape->value[j]);
-      highest = std::max(highest, shape->value[j]);
+      lowest = std::min(lowest, shape->value[row]);
+      highest = std::max(highest, shape->value[row]);
     }
   }
   if (!(weight > 0.0)) return 1.0;
@@ -283,8 +287,9 @@ double shape_factor(const std::vector<double>& weighing, const std::vector<doubl
     if (r.clear) continue;
     const double d = share(drawing, r.triangle);
     if (!(d > 0.0)) continue;
-    const double w = per_ray * share(weighing, r.triangle) / d * shape->openness[r.triangle];
-    weighted -= w * shape->value[r.triangle];
+    const std::size_t row = triangles.row(r.triangle);
+    const double w = per_ray * share(weighing, r.triangle) / d * shape->open(row);
+    weighted -= w * shape->value[row];
     weight -= w;
   }
   // Every ray blocked, or the estimate left nothing: the shooter's value
@@ -298,21 +303,41 @@ double shape_factor(const std::vector<double>& weighing, const std::vector<doubl
 
 }  // namespace
 
-TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
-                                        std::span<const std::array<Vec3, 3>> shooter, const RayCaster& rays,
-                                        const TransportSampling& sampling, std::uint64_t& ray_count,
-                                        const ShooterShape* shape,
+ShooterTriangleTable::ShooterTriangleTable(std::span<const std::array<Vec3, 3>> triangles)
+    : corner(triangles.begin(), triangles.end()) {
+  normal.reserve(corner.size());
+  centroid.reserve(corner.size());
+  area.reserve(corner.size());
+  size2.reserve(corner.size());
+  for (const auto& t : corner) {
+    normal.push_back(unit_normal(t));
+    centroid.push_back((t[0] + t[1] + t[2]) / 3.0);
+    area.push_back(0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm());
+    size2.push_back(std::max({(t[1] - t[0]).sqrnorm(), (t[2] - t[1]).sqrnorm(), (t[0] - t[2]).sqrnorm()}));
+  }
+}
+
+std::size_t ShooterTriangleTable::bytes() const {
+  return corner.capacity() * sizeof(corner[0]) + (normal.capacity() + centroid.capacity()) * sizeof(Vec3) +
+         (area.capacity() + size2.capacity()) * sizeof(double);
+}
+
+TransportCoefficients cluster_transport(const ReceiverPoint& receiver, const ShooterTriangles& shooter,
+                                        const RayCaster& rays, const TransportSampling& sampling,
+                                        std::uint64_t& ray_count, const ShooterShape* shape,
                                         std::span<const std::array<std::int32_t, 3>> corner_edges) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   std::vector<double> cumulative;
+  const ShooterTriangleTable& table = *shooter.table;
   if (!corner_edges.empty()) {
-    assert(corner_edges.size() == shooter.size());
-    shared_edge_form_factors(receiver.x, receiver.normal, shooter, corner_edges, approach, cumulative);
+    assert(corner_edges.size() == table.size());
+    shared_edge_form_factors(receiver.x, receiver.normal, table.corner, corner_edges, approach, cumulative,
+                             shooter.members);
   } else {
     cumulative.resize(shooter.size());
     for (std::size_t j = 0; j < shooter.size(); ++j) {
-      cumulative[j] = point_triangle_form_factor(receiver.x, receiver.normal, shooter[j], approach);
+      cumulative[j] = point_triangle_form_factor(receiver.x, receiver.normal, table.corner[shooter.row(j)], approach);
     }
   }
   double ff = 0.0;
@@ -320,7 +345,7 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
     ff += f;
     f = ff;
   }
-  if (!(ff > 0.0) || shooter.empty()) return out;
+  if (!(ff > 0.0) || shooter.size() == 0) return out;
   out.unoccluded = static_cast<float>(ff);
   // Shadow rays go to triangles drawn in proportion to their share of the
   // form factor (systematic sampling), so hidden or back-facing parts of a
@@ -329,12 +354,20 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
   std::vector<RayOutcome> outcomes;
   const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count,
                                           shape != nullptr ? &outcomes : nullptr);
-  out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, cumulative, shape, outcomes));
+  out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, cumulative, shape, outcomes, shooter));
   return out;
 }
 
+TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
+                                        std::span<const std::array<Vec3, 3>> shooter, const RayCaster& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape) {
+  const ShooterTriangleTable table(shooter);
+  return cluster_transport(receiver, ShooterTriangles{&table, {}}, rays, sampling, ray_count, shape);
+}
+
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
-                                        std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
+                                        const ShooterTriangles& triangles, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape) {
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
@@ -343,13 +376,21 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
   return planar_shooter_transport(receiver, ff, triangles, rays, sampling, ray_count, shape, false);
 }
 
+TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
+                                        std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape) {
+  const ShooterTriangleTable table(triangles);
+  return surface_transport(receiver, polygons, ShooterTriangles{&table, {}}, rays, sampling, ray_count, shape);
+}
+
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
-                                               std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
+                                               const ShooterTriangles& triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
                                                const ShooterShape* shape, bool above_horizon) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
-  if (!(ff > 0.0) || triangles.empty()) return out;
+  if (!(ff > 0.0) || triangles.size() == 0) return out;
   out.unoccluded = static_cast<float>(ff);
   // Shadow rays are drawn by each triangle's form factor, approximated away
   // from x: the exact one for every triangle of a large surface cost half
@@ -357,10 +398,11 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
   std::vector<double> cumulative, weighing;
   cumulative.reserve(triangles.size());
   weighing.reserve(triangles.size());
-  const Vec3 m = unit_normal(triangles.front());
+  const ShooterTriangleTable& table = *triangles.table;
+  const Vec3 m = table.normal[triangles.row(0)];
   double sum = 0.0, weighed = 0.0;
-  for (const auto& t : triangles) {
-    const DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, t, approach);
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    const DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, table, triangles.row(j), approach);
     sum += above_horizon ? f.weighing : f.drawing;
     cumulative.push_back(sum);
     weighed += f.weighing;
@@ -386,7 +428,7 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
     if (r.clear) seen += w;
   }
   if (drawn > 0.0) visible = seen / drawn;
-  out.f[0] = static_cast<float>(ff * visible * shape_factor(weighing, cumulative, shape, outcomes));
+  out.f[0] = static_cast<float>(ff * visible * shape_factor(weighing, cumulative, shape, outcomes, triangles));
   return out;
 }
 

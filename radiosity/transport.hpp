@@ -42,6 +42,33 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
                                          const RayCaster& rays, const TransportSampling& sampling,
                                          std::uint64_t& ray_count);
 
+// Per triangle of a surface that shoots as a constant-basis cluster, what
+// its transport evaluates at every link and no receiver changes: computed
+// once per surface, where recomputing them and copying the corners out of
+// the mesh at each link took a fifth of a solve's time.
+struct ShooterTriangleTable {
+  ShooterTriangleTable() = default;
+  explicit ShooterTriangleTable(std::span<const std::array<Vec3, 3>> triangles);
+  std::size_t size() const { return corner.size(); }
+  std::size_t bytes() const;
+
+  std::vector<std::array<Vec3, 3>> corner;
+  std::vector<Vec3> normal;    // unit, from the corners
+  std::vector<Vec3> centroid;  // the corners' mean
+  std::vector<double> area;
+  std::vector<double> size2;  // longest edge, squared
+};
+
+// One shooter's triangles: `members` of a table, in that order, or the whole
+// table when `members` is empty.
+struct ShooterTriangles {
+  const ShooterTriangleTable* table = nullptr;
+  std::span<const std::int32_t> members;
+  std::size_t size() const { return members.empty() ? table->size() : members.size(); }
+  // Row of the table that triangle j of this shooter is.
+  std::size_t row(std::size_t j) const { return members.empty() ? j : static_cast<std::size_t>(members[j]); }
+};
+
 // What the triangles of a constant-basis shooter hold, so that a link
 // carries what its receiver sees of them rather than their mean
 // (docs/accuracy.md, "A bright part that sees more"): per triangle its mean
@@ -51,23 +78,30 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
 // mean as this receiver's form factors and shadow rays weight it over the
 // mean the element carries (V_j: the share of triangle j the rays find
 // visible; docs/accuracy.md, "What a table hides").
+// `value` and `openness` are per row of the shooter's ShooterTriangleTable;
+// an empty `openness` means every triangle is open.
 struct ShooterShape {
   std::span<const double> value;
   std::span<const double> openness;
   double carried = 0.0;
+  double open(std::size_t row) const { return openness.empty() ? 1.0 : openness[row]; }
 };
 
 // Constant-basis shooter made of several triangles (a root cluster): f[0] is
 // the exact form factor of all of them times the visible fraction of shadow
 // rays drawn in proportion to each triangle's share of it (times the shape
 // factor when `shape` is given). `corner_edges`, when given, names the
-// triangles' edges (shared_edge_form_factors): the same form factors, each
-// shared edge integrated once.
+// table's triangles' edges (shared_edge_form_factors, per row): the same
+// form factors, each shared edge integrated once.
+TransportCoefficients cluster_transport(const ReceiverPoint& receiver, const ShooterTriangles& shooter,
+                                        const RayCaster& rays, const TransportSampling& sampling,
+                                        std::uint64_t& ray_count, const ShooterShape* shape = nullptr,
+                                        std::span<const std::array<std::int32_t, 3>> corner_edges = {});
+// The same for triangles given as corners (each call builds their table).
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         std::span<const std::array<Vec3, 3>> shooter, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
-                                        const ShooterShape* shape = nullptr,
-                                        std::span<const std::array<std::int32_t, 3>> corner_edges = {});
+                                        const ShooterShape* shape = nullptr);
 
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
 // form factor of its input polygons times the visible fraction of shadow rays
@@ -77,6 +111,10 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
 // lets the few samples nearest a receiver in a corner decide the whole
 // fraction (the kernel grows as 1/r⁴ there), which misjudged a floor seen
 // from the foot of a wall by 30 % (docs/accuracy.md).
+TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
+                                        const ShooterTriangles& triangles, const RayCaster& rays,
+                                        const TransportSampling& sampling, std::uint64_t& ray_count,
+                                        const ShooterShape* shape = nullptr);
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
                                         std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
@@ -90,7 +128,7 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
 // triangles across the horizon, and drawing by it where there are none
 // only adds noise (each ray then counts for a weight ratio).
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
-                                               std::span<const std::array<Vec3, 3>> triangles, const RayCaster& rays,
+                                               const ShooterTriangles& triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
                                                const ShooterShape* shape, bool above_horizon);
 

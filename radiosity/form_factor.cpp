@@ -225,24 +225,62 @@ void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std:
 
 std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Vec3& plane_normal,
                                           std::span<const Vec3> points,
-                                          std::span<const std::array<std::int32_t, 2>> outline) {
+                                          std::span<const std::array<std::int32_t, 2>> outline, bool* clipped) {
   // The region's plane clears x by this much of its size: far above the
   // triangles' own singular tolerance, which is smaller than it for each.
   constexpr double kClearOfPlane = 1e-6;
+  if (clipped != nullptr) *clipped = false;
   if (outline.empty()) return std::nullopt;
-  const Vec3& first = points[static_cast<std::size_t>(outline.front()[0])];
+  const auto point = [&](std::int32_t i) -> const Vec3& { return points[static_cast<std::size_t>(i)]; };
+  const Vec3& first = point(outline.front()[0]);
   double size2 = 0.0;
+  bool below = false;
   for (const auto& e : outline) {
-    const Vec3& p = points[static_cast<std::size_t>(e[0])];
-    if (OpenMesh::dot(n, p - x) < 0.0) return std::nullopt;
-    size2 = std::max(size2, (p - first).sqrnorm());
+    below = below || OpenMesh::dot(n, point(e[0]) - x) < 0.0;
+    size2 = std::max(size2, (point(e[0]) - first).sqrnorm());
   }
   // Twice the largest distance from `first` bounds the region's diameter.
   if (!(OpenMesh::dot(plane_normal, x - first) > kClearOfPlane * 2.0 * std::sqrt(size2))) return std::nullopt;
   double sum = 0.0;
-  for (const auto& e : outline) {
-    sum += edge_term(x, n, points[static_cast<std::size_t>(e[0])], points[static_cast<std::size_t>(e[1])]);
+  if (!below) {
+    for (const auto& e : outline) sum += edge_term(x, n, point(e[0]), point(e[1]));
+    return std::clamp(-sum / (2.0 * M_PI), 0.0, 1.0);
   }
+  // Part of the region lies below x's tangent plane: its contour integral
+  // is that of the part above, whose outline is the edges' parts above the
+  // plane closed by segments of the line where the two planes meet. Along
+  // that line the outline's crossings alternate into and out of the region,
+  // so sorted along it they pair up into those segments, each running from
+  // where the outline leaves the part above to where it comes back.
+  struct Crossing {
+    double along;
+    Vec3 p;
+    bool leaves;
+  };
+  thread_local std::vector<Crossing> crossings;
+  crossings.clear();
+  const Vec3 line = OpenMesh::cross(n, plane_normal);
+  for (const auto& e : outline) {
+    const Vec3 &a = point(e[0]), &b = point(e[1]);
+    const double ha = OpenMesh::dot(n, a - x), hb = OpenMesh::dot(n, b - x);
+    if (ha >= 0.0 && hb >= 0.0) {
+      sum += edge_term(x, n, a, b);
+    } else if (ha >= 0.0 || hb >= 0.0) {
+      const Vec3 c = a + (ha / (ha - hb)) * (b - a);
+      sum += ha >= 0.0 ? edge_term(x, n, a, c) : edge_term(x, n, c, b);
+      crossings.push_back({OpenMesh::dot(line, c), c, ha >= 0.0});
+    }
+  }
+  if (crossings.size() % 2 != 0) return std::nullopt;
+  std::sort(crossings.begin(), crossings.end(), [](const Crossing& l, const Crossing& r) { return l.along < r.along; });
+  for (std::size_t k = 0; k < crossings.size(); k += 2) {
+    const Crossing &l = crossings[k], &r = crossings[k + 1];
+    // Ties or an outline grazing the line can break the alternation: the
+    // caller then takes the triangles one by one.
+    if (l.leaves == r.leaves || l.leaves != crossings.front().leaves) return std::nullopt;
+    sum += l.leaves ? edge_term(x, n, l.p, r.p) : edge_term(x, n, r.p, l.p);
+  }
+  if (clipped != nullptr) *clipped = true;
   return std::clamp(-sum / (2.0 * M_PI), 0.0, 1.0);
 }
 

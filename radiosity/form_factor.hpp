@@ -50,12 +50,14 @@ void shared_edge_form_factors(const Vec3& x, const Vec3& n, std::span<const std:
 // front, in any order, holes included. Lambert's contour integral over the
 // outline is the sum of the plain contour integrals of any triangulation of
 // the region, every inner edge cancelling (docs/design.md, "Cluster
-// outlines"). nullopt where some triangle would need more than its plain
-// integral: x within a millionth of the region's size of its plane or
-// behind it (a limit), or an outline point below x's tangent plane (a clip;
-// the region lies in its outline's convex hull, so above it nothing does).
+// outlines"). A region reaching below x's tangent plane is clipped to it,
+// as each of its triangles would be; `clipped` says whether it was.
+// nullopt where some triangle would need a limit: x within a millionth of
+// the region's size of its plane, or behind it; also where the outline only
+// grazes x's tangent plane, so that its crossings do not pair up.
 std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Vec3& plane_normal,
                                           std::span<const Vec3> points,
-                                          std::span<const std::array<std::int32_t, 2>> outline);
+                                          std::span<const std::array<std::int32_t, 2>> outline,
+                                          bool* clipped = nullptr);
 
 }  // namespace lhr

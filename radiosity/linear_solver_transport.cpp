@@ -170,9 +170,13 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
       // outline, the shadow rays drawn as for a whole surface.
       const TriMesh& mesh = model_.hierarchy(s).mesh();
       const std::span<const Vec3> points(mesh.points(), mesh.n_vertices());
+      bool clipped = false;
       const std::optional<double> ff =
-          outline_form_factor(point.x, point.normal, c.normal, points, st.outlines.of(cluster_index(shooter)));
-      if (ff) return planar_shooter_transport(point, *ff, triangles, model_.rays(), sampling, rays, shape_in, true);
+          outline_form_factor(point.x, point.normal, c.normal, points, st.outlines.of(cluster_index(shooter)), &clipped);
+      if (ff) {
+        return planar_shooter_transport(point, *ff, triangles, model_.rays(), sampling, rays, shape_in,
+                                        clipped ? ShooterHorizon::kCrossing : ShooterHorizon::kAbove);
+      }
     }
     return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in, st.root_edges);
   }

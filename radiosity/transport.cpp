@@ -373,7 +373,7 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   double ff = 0.0;
   for (const auto& polygon : polygons) ff += point_polygon_form_factor(receiver.x, receiver.normal, polygon, approach);
-  return planar_shooter_transport(receiver, ff, triangles, rays, sampling, ray_count, shape, false);
+  return planar_shooter_transport(receiver, ff, triangles, rays, sampling, ray_count, shape, ShooterHorizon::kUnknown);
 }
 
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
@@ -387,7 +387,7 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
                                                const ShooterTriangles& triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
-                                               const ShooterShape* shape, bool above_horizon) {
+                                               const ShooterShape* shape, ShooterHorizon horizon) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   if (!(ff > 0.0) || triangles.size() == 0) return out;
@@ -402,8 +402,17 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
   const Vec3 m = table.normal[triangles.row(0)];
   double sum = 0.0, weighed = 0.0;
   for (std::size_t j = 0; j < triangles.size(); ++j) {
-    const DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, table, triangles.row(j), approach);
-    sum += above_horizon ? f.weighing : f.drawing;
+    const std::size_t row = triangles.row(j);
+    DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, table, row, approach);
+    if (horizon == ShooterHorizon::kCrossing) {
+      const auto& t = table.corner[row];
+      int above = 0;
+      for (const Vec3& corner : t) above += OpenMesh::dot(receiver.normal, corner - receiver.x) >= 0.0 ? 1 : 0;
+      if (above == 0) f = {0.0, 0.0};
+      if (above == 1 || above == 2) f.weighing = point_triangle_form_factor(receiver.x, receiver.normal, t, approach);
+      f.drawing = f.weighing;
+    }
+    sum += horizon == ShooterHorizon::kUnknown ? f.drawing : f.weighing;
     cumulative.push_back(sum);
     weighed += f.weighing;
     weighing.push_back(weighed);

@@ -120,16 +120,24 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
                                         const TransportSampling& sampling, std::uint64_t& ray_count,
                                         const ShooterShape* shape = nullptr);
 
+// How a planar shooter's triangles lie against the receiver's horizon,
+// which decides how its shadow rays are drawn among them:
+// - kUnknown: some may lie across or below it; rays are drawn by estimates
+//   widened so that no triangle across it is left out, and each counts for
+//   its triangle's own estimate over the one it was drawn by;
+// - kAbove: every triangle lies above it (the caller knows); rays are drawn
+//   by the unwidened estimates, which only add noise where none crosses;
+// - kCrossing: the shooter reaches below it (its form factor was clipped);
+//   each triangle is judged by its corners: above, its estimate; across,
+//   its exact clipped form factor; below, nothing.
+enum class ShooterHorizon { kUnknown, kAbove, kCrossing };
+
 // The same for any planar constant-basis shooter whose exact unoccluded form
 // factor `ff` from the receiver is known (a cluster's, from its outline):
-// shadow rays drawn by disc_form_factors, as above. When the caller knows
-// every triangle lies above the receiver's horizon (`above_horizon`), the
-// rays are drawn by the unwidened weights: the widening exists for
-// triangles across the horizon, and drawing by it where there are none
-// only adds noise (each ray then counts for a weight ratio).
+// shadow rays drawn by disc_form_factors, as `horizon` says.
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
                                                const ShooterTriangles& triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
-                                               const ShooterShape* shape, bool above_horizon);
+                                               const ShooterShape* shape, ShooterHorizon horizon);
 
 }  // namespace lhr

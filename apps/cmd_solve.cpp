@@ -47,7 +47,9 @@ int run_solve(const Args& args) {
        "solver: linear (the paper's linear hierarchical radiosity with the image-space refinement criterion) "
        "or classical (Hanrahan et al. 1991, constant elements, BF refinement)")
       ("eps-pixel", double_value(LinearOptions{}.eps_pixel),
-       "linear: split a receiver edge when its display error times the pixels it covers reaches this (paper 4.1)")
+       "linear: split a receiver edge when its display error times the pixels it covers reaches this (paper 4.1). "
+       "Display values run from 0 (black) to 1 (the display's white), so 1 is the whole range over one pixel, or "
+       "one 8-bit grey level (1/255) over 255 pixels; the default 0.3 is one grey level over about 77 pixels")
       ("eps-link", double_value(LinearOptions{}.eps_link),
        "linear: refine a link when its reflected contribution, relative to the adaptation luminance, times the "
        "pixels of the receiving node reaches this (paper 4.2), or when the error of its shooter element's values, "

@@ -59,6 +59,12 @@ LinearSolver::LinearSolver(MeshedScene& model, LinearOptions options)
     std::vector<std::array<Vec3, 3>> corners(model_.hierarchy(s).num_roots());
     for (std::size_t root = 0; root < corners.size(); ++root) corners[root] = model_.triangle(s, static_cast<NodeId>(root));
     st.root_triangles = ShooterTriangleTable(corners);
+    if (model_.surface_area(s) > 0) {
+      for (std::size_t f = 0; f < corners.size(); ++f) {
+        st.centre += model_.area(s, static_cast<NodeId>(f)) * model_.centroid(s, static_cast<NodeId>(f));
+      }
+      st.centre /= model_.surface_area(s);
+    }
     if (model_.scene().surfaces[s].planar) {
       st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters.tree, st.root_edges);
     }

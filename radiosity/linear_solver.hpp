@@ -148,6 +148,10 @@ class LinearSolver {
     SurfaceClusters clusters;  // a cluster's radiance: the mean over it
     std::vector<std::array<std::int32_t, 3>> root_edges;  // root_corner_edges
     ShooterTriangleTable root_triangles;                   // per root, for cluster links
+    // The area-weighted centre of its roots: where the receiver oracle
+    // takes a small shooter's light to come from (every oracle pass of
+    // every graph summed it anew, a twentieth of a room's solve).
+    Vec3 centre{0, 0, 0};
     ClusterOutlines outlines;                              // planar surfaces only
     // What each node shoots with and how far that is from the radiance it
     // stands for; the same bound for each cluster's mean (shooter_spread.hpp).

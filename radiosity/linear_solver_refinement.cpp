@@ -332,11 +332,7 @@ class LinearSolver::ReceiverTests {
     Rgb reflected_exitance = solver_.surfaces_[s_].clusters.radiance[0];
     for (int k = 0; k < 3; ++k) reflected_exitance[k] *= rho_[k];
     shooter_power_ = shooter_area_ * luminance(reflected_exitance);
-    if (!(shooter_area_ > 0)) return;
-    for (std::size_t f = 0; f < model_.hierarchy(s_).num_roots(); ++f) {
-      shooter_centre_ += model_.area(s_, static_cast<NodeId>(f)) * model_.centroid(s_, static_cast<NodeId>(f));
-    }
-    shooter_centre_ /= shooter_area_;
+    shooter_centre_ = solver_.surfaces_[s_].centre;
   }
 
   void prepare_facet_spread() {

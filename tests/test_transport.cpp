@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "radiosity/form_factor.hpp"
 #include "radiosity/ray_caster.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/transport.hpp"
@@ -307,6 +308,57 @@ TEST(ClusterTransport, WhatATableHidesIsLeftOutOfTheMeanTheCeilingSees) {
     EXPECT_NEAR(cluster_sum / kPatterns * mean / truth, 1.0, 0.015) << "cluster, receiver at " << x;
     // The whole surface weighs its triangles by a disc estimate away from x.
     EXPECT_NEAR(surface_sum / kPatterns * mean / truth, 1.0, 0.025) << "surface, receiver at " << x;
+  }
+}
+
+
+// A receiver tilted so that its horizon cuts the floor, as a block's side
+// sees the floor it stands on: what it gets from the floor as one planar
+// cluster (the form factor clipped to its horizon, ShooterHorizon::kCrossing)
+// is the part above the horizon weighted by its kernel. The bright band lies
+// mostly below the horizon, so a shooter mean that let that part in would be
+// far too high. The truth is a midpoint rule of the kernel, cosθx clipped at the
+// horizon, on a 400 × 400 grid; the form factor is the sum of the roots'
+// exact (clipped) ones, not the outline's.
+TEST(ClusterTransport, AFloorAcrossTheReceiversHorizonGivesWhatIsAboveIt) {
+  TriMesh floor_mesh;
+  const auto triangles = floor_triangles(16);
+  for (const auto& t : triangles) {
+    floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
+  }
+  const RayCaster rays({&floor_mesh});
+  const auto value_at = [](const Vec3& y) { return y[0] < 1.25 ? 10.0 : 1.0; };  // on a grid line
+  const TriangleValues values(triangles, value_at);
+  const ShooterShape shape = values.shape();
+  const ShooterTriangleTable table(triangles);
+  for (const Vec3& x : {Vec3(2.0, 1.0, 2.0), Vec3(1.6, 0.4, 2.0), Vec3(1.2, 1.0, 3.0)}) {
+    ReceiverPoint receiver;
+    receiver.x = x;
+    receiver.normal = Vec3(1.0, -0.75, 0.1).normalized();
+    constexpr int kGrid = 400;
+    const double cell = kRoom / kGrid;
+    double truth = 0.0;
+    for (int i = 0; i < kGrid; ++i) {
+      for (int j = 0; j < kGrid; ++j) {
+        const Vec3 y((i + 0.5) * cell, 0, (j + 0.5) * cell);
+        const Vec3 d = y - x;
+        const double r2 = d.sqrnorm(), cos_x = OpenMesh::dot(receiver.normal, d) / std::sqrt(r2);
+        if (cos_x > 0) truth += value_at(y) * cos_x * (x[1] / std::sqrt(r2)) / (M_PI * r2) * cell * cell;
+      }
+    }
+    double ff = 0.0, below = 0.0;
+    for (const auto& t : triangles) {
+      ff += point_triangle_form_factor(x, receiver.normal, t);
+      for (const Vec3& p : t) below = std::min(below, OpenMesh::dot(receiver.normal, p - x));
+    }
+    ASSERT_LT(below, -0.5) << "the receiver's horizon must cut the floor, at " << x;
+    TransportSampling sampling;
+    sampling.key = 11;
+    std::uint64_t ray_count = 0;
+    const TransportCoefficients c = planar_shooter_transport(receiver, ff, ShooterTriangles{&table, {}}, rays, sampling,
+                                                             ray_count, &shape, ShooterHorizon::kCrossing);
+    EXPECT_FLOAT_EQ(c.unoccluded, static_cast<float>(ff));
+    EXPECT_NEAR(c.f[0] * values.mean / truth, 1.0, 0.01) << "receiver at " << x;
   }
 }
 

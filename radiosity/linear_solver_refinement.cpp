@@ -7,10 +7,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
 #include "radiosity/form_factor.hpp"
+#include "radiosity/interruptible.hpp"
 #include "radiosity/receiver_oracle.hpp"
 
 namespace lhr {
@@ -337,8 +339,9 @@ class LinearSolver::ReceiverTests {
 
   void prepare_facet_spread() {
     if (model_.scene().surfaces[r_].planar) return;
+    // Sized by refine_receivers before the graphs are judged in parallel.
     std::vector<std::vector<float>>& cache = solver_.facet_spread_at_;
-    if (cache.size() < solver_.graphs_.size()) cache.resize(solver_.graphs_.size());
+    assert(cache.size() >= solver_.graphs_.size());
     facet_spread_ = &cache[graph_];
     if (facet_spread_->size() < st_.radiance.size()) {
       facet_spread_->resize(st_.radiance.size(), std::numeric_limits<float>::quiet_NaN());
@@ -419,10 +422,18 @@ bool LinearSolver::split_receiver_leaves(int graph, const std::vector<NodeId>& t
 }
 
 bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone) {
+  // Paper §4.1, in two phases (docs/design.md, "One iteration"): every graph
+  // is judged first, in parallel, reading what the last push left; then
+  // the splits are made graph by graph, in order. Judged one graph after
+  // another, the oracle was half of a room's solve on one core.
+  if (facet_spread_at_.size() < graphs_.size()) facet_spread_at_.resize(graphs_.size());
+  std::vector<std::vector<NodeId>> to_split(graphs_.size());
+  interruptible_parallel_for(graphs_.size(), options_.checkpoint, [&](std::size_t gi) {
+    to_split[gi] = receiver_leaves_to_split(static_cast<int>(gi), tone);
+  });
   bool changed = false;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
-    const int graph = static_cast<int>(gi);
-    changed |= split_receiver_leaves(graph, receiver_leaves_to_split(graph, tone), pending);
+    changed |= split_receiver_leaves(static_cast<int>(gi), to_split[gi], pending);
     graphs_[gi].pack_links();
   }
   return changed;

@@ -134,18 +134,23 @@ bool LinearSolver::refine_shooters() {
 }
 
 bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
-  bool changed = false;
   const std::vector<std::vector<double>>& importance = graph_importance_;
   const auto shared = shared_representation_error(candidates);
-  for (const PendingLink& p : candidates) {
-    InteractionGraph& g = graphs_[p.graph];
+  // Each link is judged on what the last push left, which the splits below
+  // do not change, so the judging runs in parallel and the splits in order:
+  // the same links as judging and splitting one link after another.
+  enum Verdict : std::uint8_t { kKeep, kSeen, kOwnError };
+  std::vector<std::uint8_t> verdict(candidates.size(), kKeep);
+  interruptible_parallel_for(candidates.size(), options_.checkpoint, [&](std::size_t k) {
+    const PendingLink& p = candidates[k];
+    const InteractionGraph& g = graphs_[p.graph];
     const int s = g.shooter_surface();
     if (static_cast<std::size_t>(p.graph) >= importance.size() ||
         static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) {
-      continue;
+      return;
     }
-    const GraphLink link = g.links(p.vertex)[p.slot];
-    if (!splittable(s, link.shooter, g.receiver_surface())) continue;
+    const GraphLink& link = g.links(p.vertex)[p.slot];
+    if (!splittable(s, link.shooter, g.receiver_surface())) return;
     const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
     double largest = 0.0;
     for (int l = 0; l < 3; ++l) {
@@ -167,10 +172,19 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
     };
     const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
                       shared_error / adaptation_ > options_.eps_link;
-    const bool own = !seen && own_error_too_large();
-    if (!seen && !own) continue;
+    if (seen) {
+      verdict[k] = kSeen;
+    } else if (own_error_too_large()) {
+      verdict[k] = kOwnError;
+    }
+  });
+  bool changed = false;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (verdict[k] == kKeep) continue;
+    const PendingLink& p = candidates[k];
     if (budget_.refuses(links_now_, 3, stats_)) continue;
-    const std::vector<NodeId> kids = children(s, link.shooter);
+    InteractionGraph& g = graphs_[p.graph];
+    const std::vector<NodeId> kids = children(g.shooter_surface(), g.links(p.vertex)[p.slot].shooter);
     g.links(p.vertex)[p.slot] = {kids[0], {}};
     created.push_back(p);
     for (std::size_t c = 1; c < kids.size(); ++c) {
@@ -179,7 +193,7 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
     }
     links_now_ += kids.size() - 1;
     ++stats_.shooter_refinements;
-    if (own) ++stats_.vertex_error_refinements;
+    if (verdict[k] == kOwnError) ++stats_.vertex_error_refinements;
     changed = true;
   }
   return changed;

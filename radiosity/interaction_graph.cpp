@@ -39,7 +39,6 @@ InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, st
   // shooter and receiver, most of which never split, and growth by doubling
   // would leave up to half of each graph's per-vertex tables unused.
   first_.assign(start_->vertices.size() + 1, 0);
-  gathered_.assign(start_->vertices.size(), {0, 0, 0});
 }
 
 void InteractionGraph::set_state(NodeId n, NodeState s) {
@@ -63,7 +62,6 @@ int InteractionGraph::add_vertex(VertexId v) {
   if (k >= index_.size()) index_.resize(k + 1, -1);
   index_[k] = i;
   first_.push_back(first_.back());
-  gathered_.push_back({0, 0, 0});
   return i;
 }
 
@@ -145,7 +143,6 @@ void InteractionGraph::pack_links() {
   // as they stand.
   for (auto* table : {&leaves_, &vertices_, &index_}) table->shrink_to_fit();
   state_.shrink_to_fit();
-  gathered_.shrink_to_fit();
   if (!growing_) {
     first_.shrink_to_fit();
     return;
@@ -190,7 +187,7 @@ std::size_t InteractionGraph::link_bytes() const {
 std::size_t InteractionGraph::bytes() const {
   std::size_t bytes = sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
                       vertices_.capacity() * sizeof(VertexId) + index_.capacity() * sizeof(std::int32_t) +
-                      first_.capacity() * sizeof(std::uint32_t) + gathered_.capacity() * sizeof(gathered_[0]);
+                      first_.capacity() * sizeof(std::uint32_t);
   if (growing_) {
     // The map's bucket array and one node (key, vector, next pointer) per list.
     bytes += sizeof(*growing_) + growing_->bucket_count() * sizeof(void*) +

@@ -2,8 +2,10 @@
 // Interaction graph (paper §5, docs/design.md §4): what one shooter surface S gives one
 // receiver surface R. Its leaves are a restricted quadtree cut of R's
 // hierarchy (the levels where S contributes); its vertices are the corners of
-// those leaves, each with the links from S's elements and S's contribution
-// there. The graph owns no geometry: node and vertex ids are R's.
+// those leaves, each with the links from S's elements. S's contribution
+// there is not stored: it is summed from the links where it is read (the
+// solver's push and receiver oracle). The graph owns no geometry: node and
+// vertex ids are R's.
 
 #include <array>
 #include <cstdint>
@@ -68,7 +70,7 @@ class InteractionGraph {
   // is above the cut.
   NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
 
-  std::size_t num_vertices() const { return gathered_.size(); }
+  std::size_t num_vertices() const { return first_.size() - 1; }
   VertexId vertex(int i) const { return i < num_start_ ? start_->vertices[i] : vertices_[i - num_start_]; }
   // Index of R's vertex v in this graph, or -1.
   int index_of(VertexId v) const {
@@ -99,15 +101,12 @@ class InteractionGraph {
   // each vertex's links in their order, and gives back the room the tables
   // grew into during the pass.
   void pack_links();
-  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l,
-  // summed in double and kept in float, the precision of the coefficients
-  // it comes from (TransportCoefficients).
-  Rgb gathered(int i) const {
-    const auto& g = gathered_[i];
-    return {g[0], g[1], g[2]};
-  }
-  void set_gathered(int i, const Rgb& value) {
-    for (int c = 0; c < 3; ++c) gathered_[i][c] = static_cast<float>(value[c]);
+  // S's unoccluded form factor at vertex i: Σ_links of theirs, summed in
+  // double and kept in float, as they are.
+  float unoccluded(int i) const {
+    double sum = 0.0;
+    for (const GraphLink& link : links(i)) sum += link.coefficients.unoccluded;
+    return static_cast<float>(sum);
   }
 
   // A new vertex and the vertex whose shooter elements it starts from.
@@ -122,8 +121,8 @@ class InteractionGraph {
   bool split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created);
 
   std::size_t num_links() const;
-  // Bytes of this graph's own storage: node states, vertex tables, gathered
-  // values (links: link_bytes()). The shared Start is its owner's to count.
+  // Bytes of this graph's own storage: node states, vertex tables, link
+  // offsets (links: link_bytes()). The shared Start is its owner's to count.
   std::size_t bytes() const;
   std::size_t link_bytes() const;
 
@@ -154,7 +153,6 @@ class InteractionGraph {
   std::vector<GraphLink> links_;
   std::vector<std::uint32_t> first_;
   std::unique_ptr<std::unordered_map<int, std::vector<GraphLink>>> growing_;
-  std::vector<std::array<float, 3>> gathered_;
 };
 
 }  // namespace lhr

@@ -27,6 +27,7 @@
 #include "radiosity/shooter_spread.hpp"
 #include "radiosity/solver_frame.hpp"
 #include "radiosity/tone_map.hpp"
+#include "radiosity/unoccluded_cache.hpp"
 
 namespace lhr {
 
@@ -199,7 +200,10 @@ class LinearSolver {
   double facet_spread(int r, VertexId v, int s) const;
   TransportCoefficients transport_to(const ReceiverPoint& point, int s, NodeId shooter,
                                      const TransportSampling& sampling, std::uint64_t& rays) const;
-  void gather();
+  // S's contribution at graph g's vertex i before reflection: Σ_links Σ_l
+  // F^l B_j^l from the shooter's values of the last pull.
+  Rgb gathered(const InteractionGraph& g, int i) const;
+  // Gathers every graph and pushes (docs/design.md §4, "Interaction graphs").
   double push();
   void update_importance();
   void carry_importance_back();
@@ -237,9 +241,10 @@ class LinearSolver {
   // Per graph and graph vertex: the importance of its hat function over the
   // graph's leaves (what a change of S's contribution there is worth).
   std::vector<std::vector<double>> graph_importance_;
-  // Per graph and receiver vertex, filled when push() first needs it: the
-  // unoccluded form factor from the graph's shooter (NaN until computed).
-  std::vector<std::vector<float>> unoccluded_at_;
+  // Per graph, at the receiver vertices that are not graph vertices, filled
+  // when push() first needs it: the unoccluded form factor from the graph's
+  // shooter (at a graph vertex the links sum to it).
+  std::vector<UnoccludedCache> unoccluded_at_;
   // Per graph and receiver vertex of a curved receiver, filled when
   // refine_receivers() first needs it: facet_spread() (NaN until computed).
   std::vector<std::vector<float>> facet_spread_at_;

@@ -314,10 +314,10 @@ TEST(Budgets, AGraphOnItsReceiversRootsHoldsNoSpareRoom) {
   ASSERT_EQ(graph.num_vertices(), vertices);
   ASSERT_EQ(graph.num_leaves(), roots);
   // Per vertex: where its links start in the graph's one link array (a
-  // 32-bit offset, not a vector of its own) and its gathered value (three
-  // floats). The roots, the vertex ids and their index are the receiver's
-  // Start, shared by every graph on it.
-  const std::size_t per_vertex = sizeof(std::uint32_t) + 3 * sizeof(float);
+  // 32-bit offset, not a vector of its own); its gathered value is summed
+  // from the links where it is read. The roots, the vertex ids and their
+  // index are the receiver's Start, shared by every graph on it.
+  const std::size_t per_vertex = sizeof(std::uint32_t);
   EXPECT_LE(graph.bytes(), sizeof(InteractionGraph) + sizeof(std::uint32_t) + vertices * per_vertex);
   EXPECT_GE(graph.start().bytes(), roots * sizeof(NodeId) + vertices * (sizeof(VertexId) + sizeof(std::int32_t)));
 }

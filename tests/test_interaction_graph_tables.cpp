@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -15,15 +16,17 @@
 
 #include "mesh/hierarchy.hpp"
 #include "radiosity/interaction_graph.hpp"
+#include "radiosity/unoccluded_cache.hpp"
 #include "scene_fixtures.hpp"
 
 namespace lhr {
 namespace {
 
-// Per vertex the links' offset and the gathered value (three floats); no
-// table per root, per node or per receiver vertex.
+// Per vertex the links' offset and nothing else: no gathered value (the
+// solver sums it from the links where it reads it), no table per root, per
+// node or per receiver vertex.
 std::size_t unsplit_bound(std::size_t vertices) {
-  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint32_t) + vertices * 3 * sizeof(float);
+  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint32_t);
 }
 
 TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {
@@ -152,7 +155,7 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
   g.pack_links();
   // Packed: per leaf its id, per node two bits (R's nodes up to the last
   // child), per new vertex its id and index entry (R's vertices from the
-  // start's on), per vertex the links' offset and gathered value.
+  // start's on), per vertex the links' offset.
   const std::size_t vertices = g.num_vertices();
   const std::size_t extra = vertices - 25;
   const std::size_t bound = unsplit_bound(vertices) + g.num_leaves() * sizeof(NodeId) +
@@ -160,6 +163,51 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
                             (receiver.num_vertices() - 25) * sizeof(std::int32_t);
   EXPECT_LE(g.bytes(), bound);
   EXPECT_GT(g.bytes(), unsplit);
+}
+
+// The solver's unoccluded form factor cache (radiosity/unoccluded_cache.hpp)
+// holds one float per receiver vertex that is not a graph vertex, in vertex
+// order. While two graphs split the receiver in turn, each value must stay
+// with its vertex, be dropped when the graph takes that vertex, and a vertex
+// new to the receiver must start uncomputed (NaN).
+TEST(InteractionGraphTables, TheUnoccludedCacheKeepsEachValueWithItsVertex) {
+  SurfaceHierarchy receiver = test::grid_hierarchy(9);
+  const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
+  InteractionGraph a(0, 0, start), b(1, 0, start);
+  UnoccludedCache cache;  // a's
+  const auto value_of = [](VertexId v) { return 0.25f + static_cast<float>(v); };
+  std::mt19937 random(5);
+  std::vector<InteractionGraph::NewVertex> created;
+  std::size_t computed_before = 0;  // the receiver's vertices when the values were last set
+  for (int round = 0; round < 40; ++round) {
+    cache.update(a, receiver.num_vertices());
+    std::vector<float>& values = cache.values();
+    std::size_t k = 0;
+    for (VertexId v = 0; v < static_cast<VertexId>(receiver.num_vertices()); ++v) {
+      if (a.index_of(v) >= 0) continue;
+      ASSERT_LT(k, values.size());
+      if (static_cast<std::size_t>(v) < computed_before) {
+        EXPECT_EQ(values[k], value_of(v)) << "round " << round << ", vertex " << v;
+      } else {
+        EXPECT_TRUE(std::isnan(values[k])) << "round " << round << ", vertex " << v;
+      }
+      values[k++] = value_of(v);  // what push() computes for the missing ones
+    }
+    EXPECT_EQ(k, values.size());
+    EXPECT_EQ(cache.bytes(), sizeof(cache) + values.size() * sizeof(float));
+    computed_before = receiver.num_vertices();
+    // b makes receiver vertices a does not hold; a takes some of them.
+    for (int step = 0; step < 6; ++step) {
+      InteractionGraph& g = step % 2 == 0 ? b : a;
+      const std::vector<NodeId> leaves = g.leaves();
+      const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
+      if (receiver.level(n) >= 4) continue;
+      created.clear();
+      ASSERT_TRUE(g.split(n, receiver, created));
+    }
+  }
+  EXPECT_GT(b.num_vertices(), start->vertices.size());
+  EXPECT_LT(a.num_vertices(), receiver.num_vertices());
 }
 
 }  // namespace

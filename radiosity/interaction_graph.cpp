@@ -44,13 +44,8 @@ InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, st
 void InteractionGraph::set_state(NodeId n, NodeState s) {
   const auto k = static_cast<std::size_t>(n);
   if (k >= 4 * state_.size()) state_.resize(k / 4 + 1, 0);
-  if (state(n) == NodeState::kLeaf) {
-    // The last leaf takes the removed one's place: O(1) after the search.
-    auto it = std::find(leaves_.begin(), leaves_.end(), n);
-    *it = leaves_.back();
-    leaves_.pop_back();
-  }
-  if (s == NodeState::kLeaf) leaves_.push_back(n);
+  if (state(n) == NodeState::kLeaf) --num_leaves_;
+  if (s == NodeState::kLeaf) ++num_leaves_;
   const unsigned shift = 2 * (k & 3);
   state_[k >> 2] = static_cast<std::uint8_t>((state_[k >> 2] & ~(3u << shift)) | (static_cast<unsigned>(s) << shift));
 }
@@ -65,6 +60,27 @@ int InteractionGraph::add_vertex(VertexId v) {
   return i;
 }
 
+std::vector<NodeId> InteractionGraph::leaves(const SurfaceHierarchy& receiver) const {
+  if (state_.empty()) return start_->roots;
+  std::vector<NodeId> out;
+  out.reserve(num_leaves_);
+  std::vector<NodeId> stack;
+  for (NodeId root : start_->roots) {
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const NodeId n = stack.back();
+      stack.pop_back();
+      const NodeState s = state(n);
+      if (s == NodeState::kLeaf) {
+        out.push_back(n);
+      } else if (s == NodeState::kInterior) {
+        for (int c = 3; c >= 0; --c) stack.push_back(receiver.child(n, c));
+      }
+    }
+  }
+  return out;
+}
+
 NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const {
   for (NodeId a = n; a != kNoNode; a = receiver.parent(a)) {
     const NodeState s = state(a);
@@ -77,10 +93,11 @@ NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& recei
 bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created) {
   if (state(n) != NodeState::kLeaf) return false;
   if (state_.empty()) {
-    // The first split: the cut stops being R's roots, in their order.
-    leaves_ = start_->roots;
-    state_.assign((leaves_.size() + 3) / 4, 0);
-    for (NodeId root : leaves_) {
+    // The first split: the cut stops being R's roots.
+    const std::vector<NodeId>& roots = start_->roots;
+    num_leaves_ = static_cast<std::uint32_t>(roots.size());
+    state_.assign((roots.size() + 3) / 4, 0);
+    for (NodeId root : roots) {
       const auto k = static_cast<std::size_t>(root);
       state_[k >> 2] |= static_cast<std::uint8_t>(static_cast<unsigned>(NodeState::kLeaf) << (2 * (k & 3)));
     }
@@ -141,7 +158,7 @@ void InteractionGraph::set_links(int i, std::span<const GraphLink> links) {
 void InteractionGraph::pack_links() {
   // Splits grew these by doubling; a graph that splits no more keeps them
   // as they stand.
-  for (auto* table : {&leaves_, &vertices_, &index_}) table->shrink_to_fit();
+  for (auto* table : {&vertices_, &index_}) table->shrink_to_fit();
   state_.shrink_to_fit();
   if (!growing_) {
     first_.shrink_to_fit();
@@ -185,7 +202,7 @@ std::size_t InteractionGraph::link_bytes() const {
 }
 
 std::size_t InteractionGraph::bytes() const {
-  std::size_t bytes = sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
+  std::size_t bytes = sizeof(*this) + state_.capacity() +
                       vertices_.capacity() * sizeof(VertexId) + index_.capacity() * sizeof(std::int32_t) +
                       first_.capacity() * sizeof(std::uint32_t);
   if (growing_) {

@@ -63,9 +63,10 @@ class InteractionGraph {
     return k < 4 * state_.size() ? static_cast<NodeState>((state_[k >> 2] >> (2 * (k & 3))) & 3u)
                                  : NodeState::kOutside;
   }
-  // Graph leaves, in the order the splits left them (deterministic).
-  const std::vector<NodeId>& leaves() const { return state_.empty() ? start_->roots : leaves_; }
-  std::size_t num_leaves() const { return leaves().size(); }
+  // Graph leaves, read off the node states: root by root, each root's
+  // leaves depth first, children in order (deterministic).
+  std::vector<NodeId> leaves(const SurfaceHierarchy& receiver) const;
+  std::size_t num_leaves() const { return state_.empty() ? start_->roots.size() : num_leaves_; }
   // The graph leaf containing R's node n (n or an ancestor), or kNoNode if n
   // is above the cut.
   NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
@@ -134,10 +135,12 @@ class InteractionGraph {
   int receiver_;
   std::shared_ptr<const Start> start_;
   int num_start_;  // start_->vertices.size(): graph vertices 0 … num_start_ − 1
+  std::uint32_t num_leaves_ = 0;  // once state_ holds the cut
   // Two bits per R node up to the last one the cut has reached (4 per byte);
-  // empty, with leaves_, until the first split: the cut is then R's roots.
+  // empty until the first split: the cut is then R's roots. The leaves are
+  // read off them (leaves()), not listed: a list cost 4 bytes a leaf, about
+  // 8 a graph vertex (BENCHMARKS.md, "Tables sized by the graph's own cut").
   std::vector<std::uint8_t> state_;
-  std::vector<NodeId> leaves_;
   // The graph vertices after the start's, and per R vertex id from
   // start_->index.size() on, its index here or -1: dense, 4 bytes per vertex
   // R made since the start up to the last this graph holds, since lookups

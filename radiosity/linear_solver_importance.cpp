@@ -177,7 +177,7 @@ void LinearSolver::carry_importance_back() {
     const int r = g.receiver_surface();
     const SurfaceHierarchy& h = model_.hierarchy(r);
     graph_importance_[gi].assign(g.num_vertices(), 0.0);
-    for (NodeId leaf : g.leaves()) {
+    for (NodeId leaf : g.leaves(h)) {
       for (VertexId v : h.corners(leaf)) graph_importance_[gi][g.index_of(v)] += node_importance(r, leaf) / 3.0;
     }
   }

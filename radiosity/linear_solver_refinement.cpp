@@ -383,7 +383,7 @@ std::vector<NodeId> LinearSolver::receiver_leaves_to_split(int graph, const Tone
   const SurfaceHierarchy& h = model_.hierarchy(r);
   std::vector<NodeId> to_split;
   std::vector<OracleEdge> edges;
-  for (NodeId leaf : g.leaves()) {
+  for (NodeId leaf : g.leaves(h)) {
     if (tests.misses_small_shooter(leaf) && splittable(r, leaf, s)) to_split.push_back(leaf);
     if ((tests.interpolation_doubtful(leaf) || tests.facet_jump_shows(leaf)) && splittable(r, leaf, s)) {
       to_split.push_back(leaf);

@@ -52,7 +52,7 @@ TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVerte
   int next = 0;
   for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
     const NodeId root = receiver.root(static_cast<int>(f));
-    EXPECT_EQ(g.leaves()[f], root);
+    EXPECT_EQ(g.leaves(receiver)[f], root);
     EXPECT_EQ(g.state(root), InteractionGraph::NodeState::kLeaf);
     for (VertexId v : receiver.corners(root)) {
       if (seen[v] < 0) seen[v] = next++;
@@ -76,7 +76,9 @@ TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVerte
 void expect_lookups_match_the_cut(const InteractionGraph& g, const SurfaceHierarchy& r) {
   std::vector<InteractionGraph::NodeState> want(r.num_nodes(), InteractionGraph::NodeState::kOutside);
   std::set<VertexId> corners;
-  for (NodeId leaf : g.leaves()) {
+  const std::vector<NodeId> leaves = g.leaves(r);
+  EXPECT_EQ(leaves.size(), g.num_leaves());
+  for (NodeId leaf : leaves) {
     ASSERT_EQ(want[leaf], InteractionGraph::NodeState::kOutside) << "leaf twice: " << leaf;
     want[leaf] = InteractionGraph::NodeState::kLeaf;
     for (NodeId a = r.parent(leaf); a != kNoNode; a = r.parent(a)) {
@@ -108,7 +110,7 @@ TEST(InteractionGraphTables, LookupsFollowTheCutOverARandomSplitSequence) {
   std::vector<InteractionGraph::NewVertex> created;
   for (int step = 0; step < 300; ++step) {
     InteractionGraph& g = step % 3 == 0 ? b : a;
-    const std::vector<NodeId> leaves = g.leaves();
+    const std::vector<NodeId> leaves = g.leaves(receiver);
     const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
     if (receiver.level(n) >= 4) continue;
     const std::size_t before = g.num_vertices();
@@ -141,25 +143,25 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
   g.set_every_vertex_link({kWholeSurface, {}});
   const std::size_t unsplit = g.bytes();
   EXPECT_LE(unsplit, unsplit_bound(25));
-  // Splitting root 5 puts the last root in its place and the four children
-  // at the end, as a leaf list kept from the start would.
+  // After splitting root 5 the leaves are the roots in their order with
+  // root 5's four children, in order, in its place.
   std::vector<InteractionGraph::NewVertex> created;
   ASSERT_TRUE(g.split(receiver.root(5), receiver, created));
   std::vector<NodeId> want;
-  for (std::size_t f = 0; f < receiver.num_roots(); ++f) want.push_back(receiver.root(static_cast<int>(f)));
-  want[5] = want.back();
-  want.pop_back();
-  for (int c = 0; c < 4; ++c) want.push_back(receiver.child(receiver.root(5), c));
-  EXPECT_EQ(g.leaves(), want);
+  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
+    if (f != 5) want.push_back(receiver.root(static_cast<int>(f)));
+    for (int c = 0; c < 4 && f == 5; ++c) want.push_back(receiver.child(receiver.root(5), c));
+  }
+  EXPECT_EQ(g.leaves(receiver), want);
+  EXPECT_EQ(g.num_leaves(), want.size());
   for (const auto& nv : created) g.set_links(nv.index, std::vector<GraphLink>{{kWholeSurface, {}}});
   g.pack_links();
-  // Packed: per leaf its id, per node two bits (R's nodes up to the last
+  // Packed: no list of leaves, per node two bits (R's nodes up to the last
   // child), per new vertex its id and index entry (R's vertices from the
   // start's on), per vertex the links' offset.
   const std::size_t vertices = g.num_vertices();
   const std::size_t extra = vertices - 25;
-  const std::size_t bound = unsplit_bound(vertices) + g.num_leaves() * sizeof(NodeId) +
-                            (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
+  const std::size_t bound = unsplit_bound(vertices) + (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
                             (receiver.num_vertices() - 25) * sizeof(std::int32_t);
   EXPECT_LE(g.bytes(), bound);
   EXPECT_GT(g.bytes(), unsplit);
@@ -199,7 +201,7 @@ TEST(InteractionGraphTables, TheUnoccludedCacheKeepsEachValueWithItsVertex) {
     // b makes receiver vertices a does not hold; a takes some of them.
     for (int step = 0; step < 6; ++step) {
       InteractionGraph& g = step % 2 == 0 ? b : a;
-      const std::vector<NodeId> leaves = g.leaves();
+      const std::vector<NodeId> leaves = g.leaves(receiver);
       const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
       if (receiver.level(n) >= 4) continue;
       created.clear();

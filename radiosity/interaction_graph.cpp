@@ -43,27 +43,29 @@ InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, st
 
 void InteractionGraph::set_state(NodeId n, NodeState s) {
   const auto k = static_cast<std::size_t>(n);
-  if (k >= 4 * state_.size()) state_.resize(k / 4 + 1, 0);
-  if (state(n) == NodeState::kLeaf) --num_leaves_;
-  if (s == NodeState::kLeaf) ++num_leaves_;
+  std::vector<std::uint8_t>& state = cut_->state;
+  if (k >= 4 * state.size()) state.resize(k / 4 + 1, 0);
+  if (this->state(n) == NodeState::kLeaf) --cut_->num_leaves;
+  if (s == NodeState::kLeaf) ++cut_->num_leaves;
   const unsigned shift = 2 * (k & 3);
-  state_[k >> 2] = static_cast<std::uint8_t>((state_[k >> 2] & ~(3u << shift)) | (static_cast<unsigned>(s) << shift));
+  state[k >> 2] = static_cast<std::uint8_t>((state[k >> 2] & ~(3u << shift)) | (static_cast<unsigned>(s) << shift));
 }
 
 int InteractionGraph::add_vertex(VertexId v) {
   const int i = static_cast<int>(num_vertices());
-  vertices_.push_back(v);
+  cut_->vertices.push_back(v);
   const std::size_t k = static_cast<std::size_t>(v) - start_->index.size();
-  if (k >= index_.size()) index_.resize(k + 1, -1);
-  index_[k] = i;
+  std::vector<std::int32_t>& index = cut_->index;
+  if (k >= index.size()) index.resize(k + 1, -1);
+  index[k] = i;
   first_.push_back(first_.back());
   return i;
 }
 
 std::vector<NodeId> InteractionGraph::leaves(const SurfaceHierarchy& receiver) const {
-  if (state_.empty()) return start_->roots;
+  if (!cut_) return start_->roots;
   std::vector<NodeId> out;
-  out.reserve(num_leaves_);
+  out.reserve(cut_->num_leaves);
   std::vector<NodeId> stack;
   for (NodeId root : start_->roots) {
     stack.push_back(root);
@@ -92,14 +94,15 @@ NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& recei
 
 bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created) {
   if (state(n) != NodeState::kLeaf) return false;
-  if (state_.empty()) {
+  if (!cut_) {
     // The first split: the cut stops being R's roots.
     const std::vector<NodeId>& roots = start_->roots;
-    num_leaves_ = static_cast<std::uint32_t>(roots.size());
-    state_.assign((roots.size() + 3) / 4, 0);
+    cut_ = std::make_unique<Cut>();
+    cut_->num_leaves = static_cast<std::uint32_t>(roots.size());
+    cut_->state.assign((roots.size() + 3) / 4, 0);
     for (NodeId root : roots) {
       const auto k = static_cast<std::size_t>(root);
-      state_[k >> 2] |= static_cast<std::uint8_t>(static_cast<unsigned>(NodeState::kLeaf) << (2 * (k & 3)));
+      cut_->state[k >> 2] |= static_cast<std::uint8_t>(static_cast<unsigned>(NodeState::kLeaf) << (2 * (k & 3)));
     }
   }
   if (receiver.is_leaf(n)) receiver.split(n);
@@ -158,8 +161,11 @@ void InteractionGraph::set_links(int i, std::span<const GraphLink> links) {
 void InteractionGraph::pack_links() {
   // Splits grew these by doubling; a graph that splits no more keeps them
   // as they stand.
-  for (auto* table : {&vertices_, &index_}) table->shrink_to_fit();
-  state_.shrink_to_fit();
+  if (cut_) {
+    cut_->state.shrink_to_fit();
+    cut_->vertices.shrink_to_fit();
+    cut_->index.shrink_to_fit();
+  }
   if (!growing_) {
     first_.shrink_to_fit();
     return;
@@ -202,9 +208,11 @@ std::size_t InteractionGraph::link_bytes() const {
 }
 
 std::size_t InteractionGraph::bytes() const {
-  std::size_t bytes = sizeof(*this) + state_.capacity() +
-                      vertices_.capacity() * sizeof(VertexId) + index_.capacity() * sizeof(std::int32_t) +
-                      first_.capacity() * sizeof(std::uint32_t);
+  std::size_t bytes = sizeof(*this) + first_.capacity() * sizeof(std::uint32_t);
+  if (cut_) {
+    bytes += sizeof(Cut) + cut_->state.capacity() + cut_->vertices.capacity() * sizeof(VertexId) +
+             cut_->index.capacity() * sizeof(std::int32_t);
+  }
   if (growing_) {
     // The map's bucket array and one node (key, vector, next pointer) per list.
     bytes += sizeof(*growing_) + growing_->bucket_count() * sizeof(void*) +

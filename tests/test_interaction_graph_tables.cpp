@@ -39,6 +39,10 @@ TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVerte
   const std::size_t vertices = 21 * 21;
   ASSERT_EQ(start->vertices.size(), vertices);
   ASSERT_EQ(start->roots.size(), receiver.num_roots());
+  // The graph object itself: its shooter, receiver, start, links and their
+  // offsets, and one pointer each for the tables of a cut and of lists
+  // that grow, which a graph that never splits does not hold.
+  EXPECT_LE(sizeof(InteractionGraph), 2 * sizeof(std::vector<GraphLink>) + 8 * sizeof(void*));
   for (const InteractionGraph& g : graphs) {
     EXPECT_EQ(&g.start(), start.get());
     ASSERT_EQ(g.num_vertices(), vertices);
@@ -158,10 +162,12 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
   g.pack_links();
   // Packed: no list of leaves, per node two bits (R's nodes up to the last
   // child), per new vertex its id and index entry (R's vertices from the
-  // start's on), per vertex the links' offset.
+  // start's on), per vertex the links' offset; once, the headers of those
+  // three tables and a leaf count, held only by a graph that splits.
   const std::size_t vertices = g.num_vertices();
   const std::size_t extra = vertices - 25;
-  const std::size_t bound = unsplit_bound(vertices) + (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
+  const std::size_t split_header = 3 * sizeof(std::vector<std::int32_t>) + sizeof(std::uint64_t);
+  const std::size_t bound = unsplit_bound(vertices) + split_header + (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
                             (receiver.num_vertices() - 25) * sizeof(std::int32_t);
   EXPECT_LE(g.bytes(), bound);
   EXPECT_GT(g.bytes(), unsplit);

@@ -106,7 +106,7 @@ struct LinearStats : SolverStats {
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
   double world_adaptation = 0.0;
-  std::size_t bytes_graphs = 0;  // graph node states, vertex tables
+  std::size_t bytes_graphs = 0;  // graph node states, vertex tables, per-graph caches and importance
   std::size_t bytes_total() const {
     return bytes_geometry + bytes_hierarchy + bytes_values + bytes_graphs + bytes_links;
   }

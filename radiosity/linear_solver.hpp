@@ -240,7 +240,9 @@ class LinearSolver {
   std::vector<std::shared_ptr<const InteractionGraph::Start>> starts_;
   // Per graph and graph vertex: the importance of its hat function over the
   // graph's leaves (what a change of S's contribution there is worth).
-  std::vector<std::vector<double>> graph_importance_;
+  // Summed in double and kept in float: it weighs the oracles' thresholds,
+  // and a double a graph vertex was 11 MB of the four rooms' graph tables.
+  std::vector<std::vector<float>> graph_importance_;
   // Per graph, at the receiver vertices that are not graph vertices, filled
   // when push() first needs it: the unoccluded form factor from the graph's
   // shooter (at a graph vertex the links sum to it).

@@ -133,7 +133,7 @@ bool LinearSolver::refine_shooters() {
 
 bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
   bool changed = false;
-  const std::vector<std::vector<double>>& importance = graph_importance_;
+  const std::vector<std::vector<float>>& importance = graph_importance_;
   const auto shared = shared_representation_error(candidates);
   for (const PendingLink& p : candidates) {
     InteractionGraph& g = graphs_[p.graph];

@@ -384,7 +384,7 @@ namespace {
 // bytes.graphs counts, beside each graph's own tables, the receivers'
 // shared starts, the unoccluded form factors kept at the receiver vertices
 // that are not graph vertices (a float each) and the importance the solver
-// keeps per graph vertex from one iteration to the next (a double each): the
+// keeps per graph vertex from one iteration to the next (a float each): the
 // memory budget must see all of it (BENCHMARKS.md, "Tables sized by the
 // graph's own cut").
 TEST(Budgets, GraphBytesCountTheCachesAndThePerGraphVertexImportance) {
@@ -405,7 +405,7 @@ TEST(Budgets, GraphBytesCountTheCachesAndThePerGraphVertexImportance) {
   }
   const LinearStats& stats = solver.stats();
   ASSERT_EQ(stats.graph_vertices, vertices);
-  const std::size_t importance = vertices * sizeof(double);
+  const std::size_t importance = vertices * sizeof(float);
   EXPECT_GE(stats.bytes_graphs, counted + importance);
   // The rest: a few words per graph (the caches' and tables' headers).
   EXPECT_LE(stats.bytes_graphs, counted + importance + solver.graphs().size() * 16 * sizeof(void*));

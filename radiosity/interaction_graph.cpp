@@ -39,32 +39,48 @@ InteractionGraph::InteractionGraph(int shooter_surface, int receiver_surface, st
   // shooter and receiver, most of which never split, and growth by doubling
   // would leave up to half of each graph's per-vertex tables unused.
   first_.assign(start_->vertices.size() + 1, 0);
-  gathered_.assign(start_->vertices.size(), {0, 0, 0});
 }
 
 void InteractionGraph::set_state(NodeId n, NodeState s) {
   const auto k = static_cast<std::size_t>(n);
-  if (k >= 4 * state_.size()) state_.resize(k / 4 + 1, 0);
-  if (state(n) == NodeState::kLeaf) {
-    // The last leaf takes the removed one's place: O(1) after the search.
-    auto it = std::find(leaves_.begin(), leaves_.end(), n);
-    *it = leaves_.back();
-    leaves_.pop_back();
-  }
-  if (s == NodeState::kLeaf) leaves_.push_back(n);
+  std::vector<std::uint8_t>& state = cut_->state;
+  if (k >= 4 * state.size()) state.resize(k / 4 + 1, 0);
+  if (this->state(n) == NodeState::kLeaf) --cut_->num_leaves;
+  if (s == NodeState::kLeaf) ++cut_->num_leaves;
   const unsigned shift = 2 * (k & 3);
-  state_[k >> 2] = static_cast<std::uint8_t>((state_[k >> 2] & ~(3u << shift)) | (static_cast<unsigned>(s) << shift));
+  state[k >> 2] = static_cast<std::uint8_t>((state[k >> 2] & ~(3u << shift)) | (static_cast<unsigned>(s) << shift));
 }
 
 int InteractionGraph::add_vertex(VertexId v) {
   const int i = static_cast<int>(num_vertices());
-  vertices_.push_back(v);
+  cut_->vertices.push_back(v);
   const std::size_t k = static_cast<std::size_t>(v) - start_->index.size();
-  if (k >= index_.size()) index_.resize(k + 1, -1);
-  index_[k] = i;
+  std::vector<std::int32_t>& index = cut_->index;
+  if (k >= index.size()) index.resize(k + 1, -1);
+  index[k] = i;
   first_.push_back(first_.back());
-  gathered_.push_back({0, 0, 0});
   return i;
+}
+
+std::vector<NodeId> InteractionGraph::leaves(const SurfaceHierarchy& receiver) const {
+  if (!cut_) return start_->roots;
+  std::vector<NodeId> out;
+  out.reserve(cut_->num_leaves);
+  std::vector<NodeId> stack;
+  for (NodeId root : start_->roots) {
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const NodeId n = stack.back();
+      stack.pop_back();
+      const NodeState s = state(n);
+      if (s == NodeState::kLeaf) {
+        out.push_back(n);
+      } else if (s == NodeState::kInterior) {
+        for (int c = 3; c >= 0; --c) stack.push_back(receiver.child(n, c));
+      }
+    }
+  }
+  return out;
 }
 
 NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const {
@@ -78,13 +94,15 @@ NodeId InteractionGraph::leaf_containing(NodeId n, const SurfaceHierarchy& recei
 
 bool InteractionGraph::split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created) {
   if (state(n) != NodeState::kLeaf) return false;
-  if (state_.empty()) {
-    // The first split: the cut stops being R's roots, in their order.
-    leaves_ = start_->roots;
-    state_.assign((leaves_.size() + 3) / 4, 0);
-    for (NodeId root : leaves_) {
+  if (!cut_) {
+    // The first split: the cut stops being R's roots.
+    const std::vector<NodeId>& roots = start_->roots;
+    cut_ = std::make_unique<Cut>();
+    cut_->num_leaves = static_cast<std::uint32_t>(roots.size());
+    cut_->state.assign((roots.size() + 3) / 4, 0);
+    for (NodeId root : roots) {
       const auto k = static_cast<std::size_t>(root);
-      state_[k >> 2] |= static_cast<std::uint8_t>(static_cast<unsigned>(NodeState::kLeaf) << (2 * (k & 3)));
+      cut_->state[k >> 2] |= static_cast<std::uint8_t>(static_cast<unsigned>(NodeState::kLeaf) << (2 * (k & 3)));
     }
   }
   if (receiver.is_leaf(n)) receiver.split(n);
@@ -143,9 +161,11 @@ void InteractionGraph::set_links(int i, std::span<const GraphLink> links) {
 void InteractionGraph::pack_links() {
   // Splits grew these by doubling; a graph that splits no more keeps them
   // as they stand.
-  for (auto* table : {&leaves_, &vertices_, &index_}) table->shrink_to_fit();
-  state_.shrink_to_fit();
-  gathered_.shrink_to_fit();
+  if (cut_) {
+    cut_->state.shrink_to_fit();
+    cut_->vertices.shrink_to_fit();
+    cut_->index.shrink_to_fit();
+  }
   if (!growing_) {
     first_.shrink_to_fit();
     return;
@@ -188,9 +208,11 @@ std::size_t InteractionGraph::link_bytes() const {
 }
 
 std::size_t InteractionGraph::bytes() const {
-  std::size_t bytes = sizeof(*this) + state_.capacity() + leaves_.capacity() * sizeof(NodeId) +
-                      vertices_.capacity() * sizeof(VertexId) + index_.capacity() * sizeof(std::int32_t) +
-                      first_.capacity() * sizeof(std::uint32_t) + gathered_.capacity() * sizeof(gathered_[0]);
+  std::size_t bytes = sizeof(*this) + first_.capacity() * sizeof(std::uint32_t);
+  if (cut_) {
+    bytes += sizeof(Cut) + cut_->state.capacity() + cut_->vertices.capacity() * sizeof(VertexId) +
+             cut_->index.capacity() * sizeof(std::int32_t);
+  }
   if (growing_) {
     // The map's bucket array and one node (key, vector, next pointer) per list.
     bytes += sizeof(*growing_) + growing_->bucket_count() * sizeof(void*) +

@@ -2,8 +2,10 @@
 // Interaction graph (paper §5, docs/design.md §4): what one shooter surface S gives one
 // receiver surface R. Its leaves are a restricted quadtree cut of R's
 // hierarchy (the levels where S contributes); its vertices are the corners of
-// those leaves, each with the links from S's elements and S's contribution
-// there. The graph owns no geometry: node and vertex ids are R's.
+// those leaves, each with the links from S's elements. S's contribution
+// there is not stored: it is summed from the links where it is read (the
+// solver's push and receiver oracle). The graph owns no geometry: node and
+// vertex ids are R's.
 
 #include <array>
 #include <cstdint>
@@ -57,25 +59,27 @@ class InteractionGraph {
 
   NodeState state(NodeId n) const {
     const auto k = static_cast<std::size_t>(n);
-    if (state_.empty()) return k < start_->roots.size() ? NodeState::kLeaf : NodeState::kOutside;
-    return k < 4 * state_.size() ? static_cast<NodeState>((state_[k >> 2] >> (2 * (k & 3))) & 3u)
-                                 : NodeState::kOutside;
+    if (!cut_) return k < start_->roots.size() ? NodeState::kLeaf : NodeState::kOutside;
+    const std::vector<std::uint8_t>& state = cut_->state;
+    return k < 4 * state.size() ? static_cast<NodeState>((state[k >> 2] >> (2 * (k & 3))) & 3u)
+                                : NodeState::kOutside;
   }
-  // Graph leaves, in the order the splits left them (deterministic).
-  const std::vector<NodeId>& leaves() const { return state_.empty() ? start_->roots : leaves_; }
-  std::size_t num_leaves() const { return leaves().size(); }
+  // Graph leaves, read off the node states: root by root, each root's
+  // leaves depth first, children in order (deterministic).
+  std::vector<NodeId> leaves(const SurfaceHierarchy& receiver) const;
+  std::size_t num_leaves() const { return cut_ ? cut_->num_leaves : start_->roots.size(); }
   // The graph leaf containing R's node n (n or an ancestor), or kNoNode if n
   // is above the cut.
   NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
 
-  std::size_t num_vertices() const { return gathered_.size(); }
-  VertexId vertex(int i) const { return i < num_start_ ? start_->vertices[i] : vertices_[i - num_start_]; }
+  std::size_t num_vertices() const { return first_.size() - 1; }
+  VertexId vertex(int i) const { return i < num_start_ ? start_->vertices[i] : cut_->vertices[i - num_start_]; }
   // Index of R's vertex v in this graph, or -1.
   int index_of(VertexId v) const {
     const auto k = static_cast<std::size_t>(v);
     const std::size_t base = start_->index.size();
     if (k < base) return start_->index[k];
-    return k - base < index_.size() ? index_[k - base] : -1;
+    return cut_ && k - base < cut_->index.size() ? cut_->index[k - base] : -1;
   }
   // Vertex i's links. A view: add_link() and set_links() move them.
   std::span<GraphLink> links(int i) {
@@ -99,15 +103,12 @@ class InteractionGraph {
   // each vertex's links in their order, and gives back the room the tables
   // grew into during the pass.
   void pack_links();
-  // S's contribution at vertex i before reflection: Σ_links Σ_l F^l B_j^l,
-  // summed in double and kept in float, the precision of the coefficients
-  // it comes from (TransportCoefficients).
-  Rgb gathered(int i) const {
-    const auto& g = gathered_[i];
-    return {g[0], g[1], g[2]};
-  }
-  void set_gathered(int i, const Rgb& value) {
-    for (int c = 0; c < 3; ++c) gathered_[i][c] = static_cast<float>(value[c]);
+  // S's unoccluded form factor at vertex i: Σ_links of theirs, summed in
+  // double and kept in float, as they are.
+  float unoccluded(int i) const {
+    double sum = 0.0;
+    for (const GraphLink& link : links(i)) sum += link.coefficients.unoccluded;
+    return static_cast<float>(sum);
   }
 
   // A new vertex and the vertex whose shooter elements it starts from.
@@ -122,8 +123,8 @@ class InteractionGraph {
   bool split(NodeId n, SurfaceHierarchy& receiver, std::vector<NewVertex>& created);
 
   std::size_t num_links() const;
-  // Bytes of this graph's own storage: node states, vertex tables, gathered
-  // values (links: link_bytes()). The shared Start is its owner's to count.
+  // Bytes of this graph's own storage: node states, vertex tables, link
+  // offsets (links: link_bytes()). The shared Start is its owner's to count.
   std::size_t bytes() const;
   std::size_t link_bytes() const;
 
@@ -135,16 +136,24 @@ class InteractionGraph {
   int receiver_;
   std::shared_ptr<const Start> start_;
   int num_start_;  // start_->vertices.size(): graph vertices 0 … num_start_ − 1
-  // Two bits per R node up to the last one the cut has reached (4 per byte);
-  // empty, with leaves_, until the first split: the cut is then R's roots.
-  std::vector<std::uint8_t> state_;
-  std::vector<NodeId> leaves_;
-  // The graph vertices after the start's, and per R vertex id from
-  // start_->index.size() on, its index here or -1: dense, 4 bytes per vertex
-  // R made since the start up to the last this graph holds, since lookups
-  // are on every oracle's path and direct.
-  std::vector<VertexId> vertices_;
-  std::vector<std::int32_t> index_;
+  // What a graph holds once it splits; null until then (the cut is R's
+  // roots), so a graph that never splits (most of a scene of many small
+  // shooters) carries one pointer for it, not three vectors' headers.
+  struct Cut {
+    // Two bits per R node up to the last one the cut has reached (4 per
+    // byte). The leaves are read off them (leaves()), not listed: a list
+    // cost 4 bytes a leaf, about 8 a graph vertex (BENCHMARKS.md, "Tables
+    // sized by the graph's own cut").
+    std::vector<std::uint8_t> state;
+    std::uint32_t num_leaves = 0;
+    // The graph vertices after the start's, and per R vertex id from
+    // start_->index.size() on, its index here or -1: dense, 4 bytes per
+    // vertex R made since the start up to the last this graph holds, since
+    // lookups are on every oracle's path and direct.
+    std::vector<VertexId> vertices;
+    std::vector<std::int32_t> index;
+  };
+  std::unique_ptr<Cut> cut_;
   // Every vertex's links in one array, vertex i's at [first_[i],
   // first_[i + 1]): a small vector per vertex cost a 24-byte header, an
   // allocation and its spare capacity, for lists of one to a few hundred
@@ -154,7 +163,6 @@ class InteractionGraph {
   std::vector<GraphLink> links_;
   std::vector<std::uint32_t> first_;
   std::unique_ptr<std::unordered_map<int, std::vector<GraphLink>>> growing_;
-  std::vector<std::array<float, 3>> gathered_;
 };
 
 }  // namespace lhr

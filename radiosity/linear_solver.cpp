@@ -324,39 +324,30 @@ bool LinearSolver::link_new_shooters() {
   return !pending.empty();
 }
 
-void LinearSolver::gather() {
-  PhaseTimer timer(stats_.seconds_gather);
-  unoccluded_at_.resize(graphs_.size());
-  tbb::parallel_for(std::size_t{0}, graphs_.size(), [&](std::size_t gi) {
-    InteractionGraph& g = graphs_[gi];
-    const int s = g.shooter_surface();
-    // The unoccluded form factor at the graph's own nodes comes with the
-    // links; push() needs it there as the base of what it interpolates.
-    std::vector<float>& unoccluded = unoccluded_at_[gi];
-    const std::size_t nv = surfaces_[g.receiver_surface()].radiance.size();
-    if (unoccluded.size() < nv) unoccluded.resize(nv, std::numeric_limits<float>::quiet_NaN());
-    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
-      Rgb sum(0, 0, 0);
-      double ff = 0.0;
-      for (const GraphLink& link : g.links(i)) {
-        ff += link.coefficients.unoccluded;
-        for (int l = 0; l < 3; ++l) {
-          const float f = link.coefficients.f[l];
-          if (f != 0.0f) sum += static_cast<double>(f) * shooter_value(s, link.shooter, l);
-        }
-      }
-      g.set_gathered(i, sum);
-      unoccluded[g.vertex(i)] = static_cast<float>(ff);
+Rgb LinearSolver::gathered(const InteractionGraph& g, int i) const {
+  const int s = g.shooter_surface();
+  Rgb sum(0, 0, 0);
+  for (const GraphLink& link : g.links(i)) {
+    for (int l = 0; l < 3; ++l) {
+      const float f = link.coefficients.f[l];
+      if (f != 0.0f) sum += static_cast<double>(f) * shooter_value(s, link.shooter, l);
     }
-  });
+  }
+  // In float, the precision of the coefficients it sums, as when it was
+  // stored (BENCHMARKS.md, "Tables sized by the graph's own cut").
+  for (int c = 0; c < 3; ++c) sum[c] = static_cast<float>(sum[c]);
+  return sum;
 }
 
 double LinearSolver::push() {
   PhaseTimer timer(stats_.seconds_push_pull);
   std::vector<double> change(model_.num_surfaces(), 0.0);
   unoccluded_at_.resize(graphs_.size());
+  // Every graph gathers here, from the shooters' values of the last pull (a
+  // Jacobi step), so no surface is pulled until every one has been pushed.
+  std::vector<std::vector<Rgb>> pushed(model_.num_surfaces());
   tbb::parallel_for(0, model_.num_surfaces(), [&](int r) {
-    SurfaceState& st = surfaces_[r];
+    const SurfaceState& st = surfaces_[r];
     const Material& m = model_.material(r);
     const std::size_t nv = st.radiance.size();
     std::vector<Rgb> total(nv, Rgb(0, 0, 0));
@@ -377,29 +368,35 @@ double LinearSolver::push() {
     // smooth there, and the form factor is known exactly at every vertex.
     std::vector<Rgb> ratio(nv);
     std::vector<std::uint8_t> has_ratio(nv);
-    std::vector<VertexId> missing;
+    // Per missing form factor: its place in the graph's cache and its vertex.
+    std::vector<std::pair<std::size_t, VertexId>> missing;
     for (int gi : st.graphs_in) {
       const InteractionGraph& g = graphs_[gi];
-      std::vector<float>& unoccluded = unoccluded_at_[gi];
-      if (unoccluded.size() < nv) unoccluded.resize(nv, std::numeric_limits<float>::quiet_NaN());
+      UnoccludedCache& cache = unoccluded_at_[gi];
+      cache.update(g, nv);
+      std::vector<float>& unoccluded = cache.values();  // at the vertices not in g, in order
       std::fill(exact.begin(), exact.end(), 0);
-      for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      tbb::parallel_for(0, static_cast<int>(g.num_vertices()), [&](int i) {
         const VertexId v = g.vertex(i);
-        contribution[v] = g.gathered(i);
+        contribution[v] = gathered(g, i);
         exact[v] = 1;
-        const double ff = unoccluded[v];  // set by gather()
+        const double ff = g.unoccluded(i);
         has_ratio[v] = ff > 0.0;
         ratio[v] = ff > 0.0 ? contribution[v] / ff : Rgb(0, 0, 0);
-      }
+      });
       missing.clear();
-      for (std::size_t v = 0; v < nv; ++v) {
-        if (!exact[v] && std::isnan(unoccluded[v])) missing.push_back(static_cast<VertexId>(v));
+      for (std::size_t v = 0, k = 0; v < nv; ++v) {
+        if (exact[v]) continue;
+        if (std::isnan(unoccluded[k])) missing.emplace_back(k, static_cast<VertexId>(v));
+        ++k;
       }
       tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t i) {
-        unoccluded[missing[i]] = static_cast<float>(unoccluded_form_factor(r, missing[i], g.shooter_surface()));
+        const auto& [k, v] = missing[i];
+        unoccluded[k] = static_cast<float>(unoccluded_form_factor(r, v, g.shooter_surface()));
       });
-      for (std::size_t v = 0; v < nv; ++v) {
+      for (std::size_t v = 0, k = 0; v < nv; ++v) {
         if (!exact[v]) {
+          const double ff = unoccluded[k++];
           const auto& [a, b] = st.parents[v];
           if (a == kNoVertex || st.hidden[v]) {
             contribution[v] = Rgb(0, 0, 0);
@@ -408,19 +405,21 @@ double LinearSolver::push() {
             has_ratio[v] = has_ratio[a] || has_ratio[b];
             ratio[v] = has_ratio[a] && has_ratio[b] ? 0.5 * (ratio[a] + ratio[b])
                                                     : (has_ratio[a] ? ratio[a] : ratio[b]);
-            contribution[v] = has_ratio[v] ? static_cast<double>(unoccluded[v]) * ratio[v]
-                                           : 0.5 * (contribution[a] + contribution[b]);
+            contribution[v] = has_ratio[v] ? ff * ratio[v] : 0.5 * (contribution[a] + contribution[b]);
           }
         }
         total[v] += contribution[v];
       }
     }
+    std::vector<Rgb>& values = total;
     for (std::size_t v = 0; v < nv; ++v) {
-      Rgb value;
-      for (int c = 0; c < 3; ++c) value[c] = m.emission[c] + m.reflectance[c] * total[v][c];
-      change[r] = std::max(change[r], std::abs(luminance(value) - luminance(st.radiance[v])));
-      st.radiance[v] = value;
+      for (int c = 0; c < 3; ++c) values[v][c] = m.emission[c] + m.reflectance[c] * total[v][c];
+      change[r] = std::max(change[r], std::abs(luminance(values[v]) - luminance(st.radiance[v])));
     }
+    pushed[r] = std::move(values);
+  });
+  tbb::parallel_for(0, model_.num_surfaces(), [&](int r) {
+    surfaces_[r].radiance = std::move(pushed[r]);
     pull(r);
   });
   return *std::max_element(change.begin(), change.end());
@@ -456,7 +455,6 @@ void LinearSolver::solve(const std::function<void(int, double)>& progress) {
     const std::size_t cap = budget_.cap();
     if (links_now_ > cap) stats_.links_linked_past_budget += links_now_ - std::max(before, cap);
     run_checkpoint(options_.checkpoint);
-    gather();
     const double change = push() / scale;
     update_spread();
     update_importance();
@@ -488,8 +486,14 @@ void LinearSolver::collect_stats() {
     stats_.bytes_links += g.link_bytes();
   }
   for (const auto& start : starts_) stats_.bytes_graphs += start ? start->bytes() : 0;
-  for (const std::vector<float>& u : unoccluded_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
+  stats_.bytes_graphs += unoccluded_at_.capacity() * sizeof(UnoccludedCache);
+  for (const UnoccludedCache& u : unoccluded_at_) stats_.bytes_graphs += u.bytes() - sizeof(u);
   for (const std::vector<float>& u : facet_spread_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
+  // The importance per graph vertex is a table of the graphs' as much as
+  // the form factor caches are, kept from one iteration to the next, and
+  // the memory budget must see it (4 bytes a graph vertex).
+  stats_.bytes_graphs += graph_importance_.capacity() * sizeof(graph_importance_[0]);
+  for (const std::vector<float>& w : graph_importance_) stats_.bytes_graphs += w.capacity() * sizeof(float);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
   stats_.leaves_per_level.clear();

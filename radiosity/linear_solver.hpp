@@ -28,6 +28,7 @@
 #include "radiosity/solver_frame.hpp"
 #include "radiosity/tone_map.hpp"
 #include "radiosity/transport.hpp"
+#include "radiosity/unoccluded_cache.hpp"
 
 namespace lhr {
 
@@ -106,7 +107,7 @@ struct LinearStats : SolverStats {
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
   double world_adaptation = 0.0;
-  std::size_t bytes_graphs = 0;  // graph node states, vertex tables
+  std::size_t bytes_graphs = 0;  // graph node states, vertex tables, per-graph caches and importance
   std::size_t bytes_total() const {
     return bytes_geometry + bytes_hierarchy + bytes_values + bytes_graphs + bytes_links;
   }
@@ -205,7 +206,10 @@ class LinearSolver {
   double facet_spread(int r, VertexId v, int s) const;
   TransportCoefficients transport_to(const ReceiverPoint& point, int s, NodeId shooter,
                                      const TransportSampling& sampling, std::uint64_t& rays) const;
-  void gather();
+  // S's contribution at graph g's vertex i before reflection: Σ_links Σ_l
+  // F^l B_j^l from the shooter's values of the last pull.
+  Rgb gathered(const InteractionGraph& g, int i) const;
+  // Gathers every graph and pushes (docs/design.md §4, "Interaction graphs").
   double push();
   void update_importance();
   void carry_importance_back();
@@ -242,10 +246,13 @@ class LinearSolver {
   std::vector<std::shared_ptr<const InteractionGraph::Start>> starts_;
   // Per graph and graph vertex: the importance of its hat function over the
   // graph's leaves (what a change of S's contribution there is worth).
-  std::vector<std::vector<double>> graph_importance_;
-  // Per graph and receiver vertex, filled when push() first needs it: the
-  // unoccluded form factor from the graph's shooter (NaN until computed).
-  std::vector<std::vector<float>> unoccluded_at_;
+  // Summed in double and kept in float: it weighs the oracles' thresholds,
+  // and a double a graph vertex was 11 MB of the four rooms' graph tables.
+  std::vector<std::vector<float>> graph_importance_;
+  // Per graph, at the receiver vertices that are not graph vertices, filled
+  // when push() first needs it: the unoccluded form factor from the graph's
+  // shooter (at a graph vertex the links sum to it).
+  std::vector<UnoccludedCache> unoccluded_at_;
   // Per graph and receiver vertex of a curved receiver, filled when
   // refine_receivers() first needs it: facet_spread() (NaN until computed).
   std::vector<std::vector<float>> facet_spread_at_;

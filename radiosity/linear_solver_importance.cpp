@@ -172,14 +172,16 @@ void LinearSolver::carry_importance_back() {
     }
   }
   graph_importance_.assign(graphs_.size(), {});
+  std::vector<double> sum;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
     const int r = g.receiver_surface();
     const SurfaceHierarchy& h = model_.hierarchy(r);
-    graph_importance_[gi].assign(g.num_vertices(), 0.0);
-    for (NodeId leaf : g.leaves()) {
-      for (VertexId v : h.corners(leaf)) graph_importance_[gi][g.index_of(v)] += node_importance(r, leaf) / 3.0;
+    sum.assign(g.num_vertices(), 0.0);
+    for (NodeId leaf : g.leaves(h)) {
+      for (VertexId v : h.corners(leaf)) sum[g.index_of(v)] += node_importance(r, leaf) / 3.0;
     }
+    graph_importance_[gi].assign(sum.begin(), sum.end());
   }
 }
 

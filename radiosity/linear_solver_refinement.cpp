@@ -134,7 +134,7 @@ bool LinearSolver::refine_shooters() {
 }
 
 bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
-  const std::vector<std::vector<double>>& importance = graph_importance_;
+  const std::vector<std::vector<float>>& importance = graph_importance_;
   const auto shared = shared_representation_error(candidates);
   // Each link is judged on what the last push left, which the splits below
   // do not change, so the judging runs in parallel and the splits in order:
@@ -214,13 +214,17 @@ class LinearSolver::ReceiverTests {
         rho_(model_.material(r_).reflectance),
         oracle_(tone, solver.options_.vis_threshold) {
     prepare_small_shooter();
-    if (static_cast<std::size_t>(graph) < solver.unoccluded_at_.size()) unoccluded_ = &solver.unoccluded_at_[graph];
     prepare_facet_spread();
+    // S's contribution at every graph vertex, gathered once for all the
+    // tests from the links as they stand (the shooter oracle has refined
+    // some since the push) and the shooter's values of the last pull.
+    gathered_.resize(g_.num_vertices());
+    tbb::parallel_for(0, static_cast<int>(gathered_.size()), [&](int i) { gathered_[i] = solver_.gathered(g_, i); });
   }
 
   // S's reflected contribution at graph vertex i.
   double own(int i) const {
-    Rgb c = g_.gathered(i);
+    Rgb c = gathered_[i];
     for (int k = 0; k < 3; ++k) c[k] *= rho_[k];
     return luminance(c);
   }
@@ -364,9 +368,9 @@ class LinearSolver::ReceiverTests {
 
   double sent_per_form_factor(VertexId v) const {
     const int i = g_.index_of(v);
-    if (i < 0 || unoccluded_ == nullptr || static_cast<std::size_t>(v) >= unoccluded_->size()) return 0.0;
-    const double ff = (*unoccluded_)[v];
-    return ff > 0.0 ? luminance(g_.gathered(i)) / ff : 0.0;
+    if (i < 0) return 0.0;
+    const double ff = g_.unoccluded(i);
+    return ff > 0.0 ? luminance(gathered_[i]) / ff : 0.0;
   }
 
   LinearSolver& solver_;
@@ -381,8 +385,8 @@ class LinearSolver::ReceiverTests {
   double shooter_area_ = 0.0;
   double shooter_power_ = 0.0;
   Vec3 shooter_centre_{0, 0, 0};
-  const std::vector<float>* unoccluded_ = nullptr;
   std::vector<float>* facet_spread_ = nullptr;  // curved receivers only
+  std::vector<Rgb> gathered_;  // per graph vertex
 };
 
 std::vector<NodeId> LinearSolver::receiver_leaves_to_split(int graph, const ToneMap& tone) {
@@ -392,7 +396,7 @@ std::vector<NodeId> LinearSolver::receiver_leaves_to_split(int graph, const Tone
   const SurfaceHierarchy& h = model_.hierarchy(r);
   std::vector<NodeId> to_split;
   std::vector<OracleEdge> edges;
-  for (NodeId leaf : g.leaves()) {
+  for (NodeId leaf : g.leaves(h)) {
     if (tests.misses_small_shooter(leaf) && splittable(r, leaf, s)) to_split.push_back(leaf);
     if ((tests.interpolation_doubtful(leaf) || tests.facet_jump_shows(leaf)) && splittable(r, leaf, s)) {
       to_split.push_back(leaf);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -15,15 +16,17 @@
 
 #include "mesh/hierarchy.hpp"
 #include "radiosity/interaction_graph.hpp"
+#include "radiosity/unoccluded_cache.hpp"
 #include "scene_fixtures.hpp"
 
 namespace lhr {
 namespace {
 
-// Per vertex the links' offset and the gathered value (three floats); no
-// table per root, per node or per receiver vertex.
+// Per vertex the links' offset and nothing else: no gathered value (the
+// solver sums it from the links where it reads it), no table per root, per
+// node or per receiver vertex.
 std::size_t unsplit_bound(std::size_t vertices) {
-  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint32_t) + vertices * 3 * sizeof(float);
+  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint32_t);
 }
 
 TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {
@@ -36,6 +39,10 @@ TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVerte
   const std::size_t vertices = 21 * 21;
   ASSERT_EQ(start->vertices.size(), vertices);
   ASSERT_EQ(start->roots.size(), receiver.num_roots());
+  // The graph object itself: its shooter, receiver, start, links and their
+  // offsets, and one pointer each for the tables of a cut and of lists
+  // that grow, which a graph that never splits does not hold.
+  EXPECT_LE(sizeof(InteractionGraph), 2 * sizeof(std::vector<GraphLink>) + 8 * sizeof(void*));
   for (const InteractionGraph& g : graphs) {
     EXPECT_EQ(&g.start(), start.get());
     ASSERT_EQ(g.num_vertices(), vertices);
@@ -49,7 +56,7 @@ TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVerte
   int next = 0;
   for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
     const NodeId root = receiver.root(static_cast<int>(f));
-    EXPECT_EQ(g.leaves()[f], root);
+    EXPECT_EQ(g.leaves(receiver)[f], root);
     EXPECT_EQ(g.state(root), InteractionGraph::NodeState::kLeaf);
     for (VertexId v : receiver.corners(root)) {
       if (seen[v] < 0) seen[v] = next++;
@@ -73,7 +80,9 @@ TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVerte
 void expect_lookups_match_the_cut(const InteractionGraph& g, const SurfaceHierarchy& r) {
   std::vector<InteractionGraph::NodeState> want(r.num_nodes(), InteractionGraph::NodeState::kOutside);
   std::set<VertexId> corners;
-  for (NodeId leaf : g.leaves()) {
+  const std::vector<NodeId> leaves = g.leaves(r);
+  EXPECT_EQ(leaves.size(), g.num_leaves());
+  for (NodeId leaf : leaves) {
     ASSERT_EQ(want[leaf], InteractionGraph::NodeState::kOutside) << "leaf twice: " << leaf;
     want[leaf] = InteractionGraph::NodeState::kLeaf;
     for (NodeId a = r.parent(leaf); a != kNoNode; a = r.parent(a)) {
@@ -105,7 +114,7 @@ TEST(InteractionGraphTables, LookupsFollowTheCutOverARandomSplitSequence) {
   std::vector<InteractionGraph::NewVertex> created;
   for (int step = 0; step < 300; ++step) {
     InteractionGraph& g = step % 3 == 0 ? b : a;
-    const std::vector<NodeId> leaves = g.leaves();
+    const std::vector<NodeId> leaves = g.leaves(receiver);
     const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
     if (receiver.level(n) >= 4) continue;
     const std::size_t before = g.num_vertices();
@@ -138,28 +147,75 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
   g.set_every_vertex_link({kWholeSurface, {}});
   const std::size_t unsplit = g.bytes();
   EXPECT_LE(unsplit, unsplit_bound(25));
-  // Splitting root 5 puts the last root in its place and the four children
-  // at the end, as a leaf list kept from the start would.
+  // After splitting root 5 the leaves are the roots in their order with
+  // root 5's four children, in order, in its place.
   std::vector<InteractionGraph::NewVertex> created;
   ASSERT_TRUE(g.split(receiver.root(5), receiver, created));
   std::vector<NodeId> want;
-  for (std::size_t f = 0; f < receiver.num_roots(); ++f) want.push_back(receiver.root(static_cast<int>(f)));
-  want[5] = want.back();
-  want.pop_back();
-  for (int c = 0; c < 4; ++c) want.push_back(receiver.child(receiver.root(5), c));
-  EXPECT_EQ(g.leaves(), want);
+  for (std::size_t f = 0; f < receiver.num_roots(); ++f) {
+    if (f != 5) want.push_back(receiver.root(static_cast<int>(f)));
+    for (int c = 0; c < 4 && f == 5; ++c) want.push_back(receiver.child(receiver.root(5), c));
+  }
+  EXPECT_EQ(g.leaves(receiver), want);
+  EXPECT_EQ(g.num_leaves(), want.size());
   for (const auto& nv : created) g.set_links(nv.index, std::vector<GraphLink>{{kWholeSurface, {}}});
   g.pack_links();
-  // Packed: per leaf its id, per node two bits (R's nodes up to the last
+  // Packed: no list of leaves, per node two bits (R's nodes up to the last
   // child), per new vertex its id and index entry (R's vertices from the
-  // start's on), per vertex the links' offset and gathered value.
+  // start's on), per vertex the links' offset; once, the headers of those
+  // three tables and a leaf count, held only by a graph that splits.
   const std::size_t vertices = g.num_vertices();
   const std::size_t extra = vertices - 25;
-  const std::size_t bound = unsplit_bound(vertices) + g.num_leaves() * sizeof(NodeId) +
-                            (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
+  const std::size_t split_header = 3 * sizeof(std::vector<std::int32_t>) + sizeof(std::uint64_t);
+  const std::size_t bound = unsplit_bound(vertices) + split_header + (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
                             (receiver.num_vertices() - 25) * sizeof(std::int32_t);
   EXPECT_LE(g.bytes(), bound);
   EXPECT_GT(g.bytes(), unsplit);
+}
+
+// The solver's unoccluded form factor cache (radiosity/unoccluded_cache.hpp)
+// holds one float per receiver vertex that is not a graph vertex, in vertex
+// order. While two graphs split the receiver in turn, each value must stay
+// with its vertex, be dropped when the graph takes that vertex, and a vertex
+// new to the receiver must start uncomputed (NaN).
+TEST(InteractionGraphTables, TheUnoccludedCacheKeepsEachValueWithItsVertex) {
+  SurfaceHierarchy receiver = test::grid_hierarchy(9);
+  const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
+  InteractionGraph a(0, 0, start), b(1, 0, start);
+  UnoccludedCache cache;  // a's
+  const auto value_of = [](VertexId v) { return 0.25f + static_cast<float>(v); };
+  std::mt19937 random(5);
+  std::vector<InteractionGraph::NewVertex> created;
+  std::size_t computed_before = 0;  // the receiver's vertices when the values were last set
+  for (int round = 0; round < 40; ++round) {
+    cache.update(a, receiver.num_vertices());
+    std::vector<float>& values = cache.values();
+    std::size_t k = 0;
+    for (VertexId v = 0; v < static_cast<VertexId>(receiver.num_vertices()); ++v) {
+      if (a.index_of(v) >= 0) continue;
+      ASSERT_LT(k, values.size());
+      if (static_cast<std::size_t>(v) < computed_before) {
+        EXPECT_EQ(values[k], value_of(v)) << "round " << round << ", vertex " << v;
+      } else {
+        EXPECT_TRUE(std::isnan(values[k])) << "round " << round << ", vertex " << v;
+      }
+      values[k++] = value_of(v);  // what push() computes for the missing ones
+    }
+    EXPECT_EQ(k, values.size());
+    EXPECT_EQ(cache.bytes(), sizeof(cache) + values.size() * sizeof(float));
+    computed_before = receiver.num_vertices();
+    // b makes receiver vertices a does not hold; a takes some of them.
+    for (int step = 0; step < 6; ++step) {
+      InteractionGraph& g = step % 2 == 0 ? b : a;
+      const std::vector<NodeId> leaves = g.leaves(receiver);
+      const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
+      if (receiver.level(n) >= 4) continue;
+      created.clear();
+      ASSERT_TRUE(g.split(n, receiver, created));
+    }
+  }
+  EXPECT_GT(b.num_vertices(), start->vertices.size());
+  EXPECT_LT(a.num_vertices(), receiver.num_vertices());
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ std::vector<std::string> graph_violations(const MeshedScene& model, const Intera
     }
     return kNoNode;
   };
-  for (NodeId leaf : g.leaves()) {
+  for (NodeId leaf : g.leaves(h)) {
     for (VertexId v : h.corners(leaf)) {
       if (g.index_of(v) < 0) out.push_back("leaf " + std::to_string(leaf) + ": corner not a graph vertex");
     }

@@ -57,7 +57,7 @@ struct MixedGraph {
     std::mt19937 random(7);
     std::vector<InteractionGraph::NewVertex> created;
     for (int i = 0; i < 40; ++i) {
-      const auto& leaves = graph.leaves();
+      const auto& leaves = graph.leaves(receiver);
       const NodeId n = leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)];
       if (receiver.level(n) < 3) graph.split(n, receiver, created);
     }
@@ -65,7 +65,7 @@ struct MixedGraph {
 
   std::vector<OracleEdge> edges() const {
     std::vector<OracleEdge> out;
-    for (NodeId leaf : graph.leaves()) oracle_edges(graph, receiver, leaf, out);
+    for (NodeId leaf : graph.leaves(receiver)) oracle_edges(graph, receiver, leaf, out);
     return out;
   }
 };
@@ -119,7 +119,7 @@ TEST(ReceiverOracle, EveryInnerEdgeOfEveryGraphLeafIsInExactlyOnePair) {
   const SurfaceHierarchy& h = mixed.receiver;
   const auto edges = mixed.edges();
   std::size_t inner_edges = 0;
-  for (NodeId leaf : mixed.graph.leaves()) {
+  for (NodeId leaf : mixed.graph.leaves(h)) {
     const auto& c = h.corners(leaf);
     for (int k = 0; k < 3; ++k) {
       if (h.is_boundary_edge(leaf, k)) continue;

@@ -441,8 +441,8 @@ bool LinearSolver::split_receiver_leaves(int graph, const std::vector<NodeId>& t
 
 bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone) {
   // Paper §4.1, in two phases (docs/design.md, "One iteration"): every graph
-  // is judged first, in parallel, reading what the last push left; then
-  // the splits are made graph by graph, in order. Judged one graph after
+  // is judged first, in parallel, while nothing is split; then the splits
+  // are made graph by graph, in order. Judged one graph after
   // another, the oracle was half of a room's solve on one core.
   if (facet_spread_at_.size() < graphs_.size()) facet_spread_at_.resize(graphs_.size());
   std::vector<std::vector<NodeId>> to_split(graphs_.size());

@@ -5,8 +5,8 @@
 // form factors push() interpolates by.
 
 #include <algorithm>
-#include <cassert>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 
@@ -150,8 +150,9 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
     // the cluster holds now.
     assert(st.root_luminance.empty() || st.root_luminance.size() == st.root_triangles.size());
     const bool open = c.exposed_area > 0;
-    ShooterShape shape{st.root_luminance, open ? std::span<const double>(st.clusters.root_exposure) : std::span<const double>(),
-                       luminance(st.clusters.radiance[cluster_index(shooter)])};
+    const std::span<const double> openness =
+        open ? std::span<const double>(st.clusters.root_exposure) : std::span<const double>();
+    ShooterShape shape{st.root_luminance, openness, luminance(st.clusters.radiance[cluster_index(shooter)])};
     const ShooterShape* shape_in = st.root_luminance.empty() ? nullptr : &shape;
     const Surface& shooter_surface = model_.scene().surfaces[s];
     if (shooter == kWholeSurface && shooter_surface.planar) {
@@ -171,8 +172,8 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
       const TriMesh& mesh = model_.hierarchy(s).mesh();
       const std::span<const Vec3> points(mesh.points(), mesh.n_vertices());
       bool clipped = false;
-      const std::optional<double> ff =
-          outline_form_factor(point.x, point.normal, c.normal, points, st.outlines.of(cluster_index(shooter)), &clipped);
+      const std::optional<double> ff = outline_form_factor(point.x, point.normal, c.normal, points,
+                                                           st.outlines.of(cluster_index(shooter)), &clipped);
       if (ff) {
         return planar_shooter_transport(point, *ff, triangles, model_.rays(), sampling, rays, shape_in,
                                         clipped ? ShooterHorizon::kCrossing : ShooterHorizon::kAbove);

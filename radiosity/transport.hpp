@@ -45,7 +45,7 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
 // Per triangle of a surface that shoots as a constant-basis cluster, what
 // its transport evaluates at every link and no receiver changes: computed
 // once per surface, where recomputing them and copying the corners out of
-// the mesh at each link took a fifth of a solve's time.
+// the mesh at each link took a tenth of a coarse solve's time.
 struct ShooterTriangleTable {
   ShooterTriangleTable() = default;
   explicit ShooterTriangleTable(std::span<const std::array<Vec3, 3>> triangles);

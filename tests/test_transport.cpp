@@ -194,11 +194,11 @@ std::vector<std::vector<Vec3>> whole_floor() {
   return {{Vec3(0, 0, 0), Vec3(0, 0, kRoom), Vec3(kRoom, 0, kRoom), Vec3(kRoom, 0, 0)}};
 }
 
-// ∫ value(y) V(x, y) cosθx cosθy / (π r²) dy over the floor, for x facing
-// straight down: a midpoint rule on a 400 × 400 grid, leaving out the points
-// `hidden` says x cannot see.
+// ∫ value(y) V(x, y) cosθx cosθy / (π r²) dy over the floor, for x of unit
+// normal n (cosθx clipped at x's horizon): a midpoint rule on a 400 × 400
+// grid, leaving out the points `hidden` says x cannot see.
 template <typename Value, typename Hidden>
-double floor_seen_from(const Vec3& x, Value value, Hidden hidden) {
+double floor_seen_from(const Vec3& x, const Vec3& n, Value value, Hidden hidden) {
   constexpr int kGrid = 400;
   const double cell = kRoom / kGrid;
   double sum = 0.0;
@@ -206,16 +206,18 @@ double floor_seen_from(const Vec3& x, Value value, Hidden hidden) {
     for (int j = 0; j < kGrid; ++j) {
       const Vec3 y((i + 0.5) * cell, 0, (j + 0.5) * cell);
       if (hidden(y)) continue;
-      const double r2 = (y - x).sqrnorm();
-      sum += value(y) * (x[1] * x[1]) / (M_PI * r2 * r2) * cell * cell;
+      const Vec3 d = y - x;
+      const double r2 = d.sqrnorm(), r = std::sqrt(r2);
+      const double cos_x = OpenMesh::dot(n, d) / r;
+      if (cos_x > 0) sum += value(y) * cos_x * (x[1] / r) / (M_PI * r2) * cell * cell;
     }
   }
   return sum;
 }
 
-double seen_from_above(const Vec3& x) {
-  return floor_seen_from(x, floor_value, [](const Vec3&) { return false; });
-}
+const auto kNothingHidden = [](const Vec3&) { return false; };
+
+double seen_from_above(const Vec3& x) { return floor_seen_from(x, Vec3(0, -1, 0), floor_value, kNothingHidden); }
 
 TEST(ClusterTransport, AReceiverGetsTheFloorAsItsOwnKernelWeighsIt) {
   TriMesh floor_mesh;
@@ -262,7 +264,7 @@ double shaded_floor_value(const Vec3& y) {
 }
 
 double seen_past_the_table(const Vec3& x) {
-  return floor_seen_from(x, shaded_floor_value, [&x](const Vec3& y) {
+  return floor_seen_from(x, Vec3(0, -1, 0), shaded_floor_value, [&x](const Vec3& y) {
     const Vec3 crossing = x + ((x[1] - kTableHeight) / x[1]) * (y - x);
     return crossing[0] > kTableLow && crossing[0] < kTableHigh && crossing[2] > kTableLow && crossing[2] < kTableHigh;
   });
@@ -335,17 +337,7 @@ TEST(ClusterTransport, AFloorAcrossTheReceiversHorizonGivesWhatIsAboveIt) {
     ReceiverPoint receiver;
     receiver.x = x;
     receiver.normal = Vec3(1.0, -0.75, 0.1).normalized();
-    constexpr int kGrid = 400;
-    const double cell = kRoom / kGrid;
-    double truth = 0.0;
-    for (int i = 0; i < kGrid; ++i) {
-      for (int j = 0; j < kGrid; ++j) {
-        const Vec3 y((i + 0.5) * cell, 0, (j + 0.5) * cell);
-        const Vec3 d = y - x;
-        const double r2 = d.sqrnorm(), cos_x = OpenMesh::dot(receiver.normal, d) / std::sqrt(r2);
-        if (cos_x > 0) truth += value_at(y) * cos_x * (x[1] / std::sqrt(r2)) / (M_PI * r2) * cell * cell;
-      }
-    }
+    const double truth = floor_seen_from(x, receiver.normal, value_at, kNothingHidden);
     double ff = 0.0, below = 0.0;
     for (const auto& t : triangles) {
       ff += point_triangle_form_factor(x, receiver.normal, t);

@@ -55,9 +55,8 @@ int InteractionGraph::add_vertex(VertexId v) {
   const int i = static_cast<int>(num_vertices());
   cut_->vertices.push_back(v);
   const std::size_t k = static_cast<std::size_t>(v) - start_->index.size();
-  std::vector<std::int32_t>& index = cut_->index;
-  if (k >= index.size()) index.resize(k + 1, -1);
-  index[k] = i;
+  cut_->index.grow(k + 1, 0);
+  cut_->index.set(k, static_cast<std::uint32_t>(i) + 1);
   first_.push_back(first_.back());
   return i;
 }
@@ -139,7 +138,7 @@ void InteractionGraph::set_every_vertex_link(const GraphLink& link) {
     throw std::length_error("InteractionGraph: more than 2^32 links in one graph");
   }
   links_.assign(n, link);
-  for (std::size_t i = 0; i < n; ++i) first_[i + 1] = static_cast<std::uint32_t>(i + 1);
+  for (std::size_t i = 0; i < n; ++i) first_.set(i + 1, static_cast<std::uint32_t>(i + 1));
 }
 
 void InteractionGraph::add_link(int i, const GraphLink& link) {
@@ -177,7 +176,7 @@ void InteractionGraph::pack_links() {
   }
   std::vector<GraphLink> packed;
   packed.reserve(total);
-  std::vector<std::uint32_t> first;
+  CompactUints first;
   first.reserve(first_.size());
   first.push_back(0);
   for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
@@ -208,10 +207,10 @@ std::size_t InteractionGraph::link_bytes() const {
 }
 
 std::size_t InteractionGraph::bytes() const {
-  std::size_t bytes = sizeof(*this) + first_.capacity() * sizeof(std::uint32_t);
+  std::size_t bytes = sizeof(*this) + first_.bytes();
   if (cut_) {
     bytes += sizeof(Cut) + cut_->state.capacity() + cut_->vertices.capacity() * sizeof(VertexId) +
-             cut_->index.capacity() * sizeof(std::int32_t);
+             cut_->index.bytes();
   }
   if (growing_) {
     // The map's bucket array and one node (key, vector, next pointer) per list.

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "mesh/hierarchy.hpp"
+#include "radiosity/compact_tables.hpp"
 #include "radiosity/transport.hpp"
 
 namespace lhr {
@@ -79,7 +80,7 @@ class InteractionGraph {
     const auto k = static_cast<std::size_t>(v);
     const std::size_t base = start_->index.size();
     if (k < base) return start_->index[k];
-    return cut_ && k - base < cut_->index.size() ? cut_->index[k - base] : -1;
+    return cut_ && k - base < cut_->index.size() ? static_cast<int>(cut_->index[k - base]) - 1 : -1;
   }
   // Vertex i's links. A view: add_link() and set_links() move them.
   std::span<GraphLink> links(int i) {
@@ -147,11 +148,12 @@ class InteractionGraph {
     std::vector<std::uint8_t> state;
     std::uint32_t num_leaves = 0;
     // The graph vertices after the start's, and per R vertex id from
-    // start_->index.size() on, its index here or -1: dense, 4 bytes per
-    // vertex R made since the start up to the last this graph holds, since
-    // lookups are on every oracle's path and direct.
+    // start_->index.size() on, its index here plus one, or 0: dense, 2 bytes
+    // (4 in a graph past 65 535 vertices) per vertex R made since the start
+    // up to the last this graph holds, since lookups are on every oracle's
+    // path and direct.
     std::vector<VertexId> vertices;
-    std::vector<std::int32_t> index;
+    CompactUints index;
   };
   std::unique_ptr<Cut> cut_;
   // Every vertex's links in one array, vertex i's at [first_[i],
@@ -159,9 +161,10 @@ class InteractionGraph {
   // allocation and its spare capacity, for lists of one to a few hundred
   // links. A list that grows during a refinement pass is copied out to
   // growing_ and packed back in afterwards (pack_links); the map itself is
-  // held only while some list grows.
+  // held only while some list grows. The offsets take 2 bytes a vertex in a
+  // graph of fewer than 65 536 links (CompactUints).
   std::vector<GraphLink> links_;
-  std::vector<std::uint32_t> first_;
+  CompactUints first_;
   std::unique_ptr<std::unordered_map<int, std::vector<GraphLink>>> growing_;
 };
 

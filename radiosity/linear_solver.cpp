@@ -491,9 +491,9 @@ void LinearSolver::collect_stats() {
   for (const std::vector<float>& u : facet_spread_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
   // The importance per graph vertex is a table of the graphs' as much as
   // the form factor caches are, kept from one iteration to the next, and
-  // the memory budget must see it (4 bytes a graph vertex).
+  // the memory budget must see it (2 bytes a graph vertex).
   stats_.bytes_graphs += graph_importance_.capacity() * sizeof(graph_importance_[0]);
-  for (const std::vector<float>& w : graph_importance_) stats_.bytes_graphs += w.capacity() * sizeof(float);
+  for (const std::vector<BFloat16>& w : graph_importance_) stats_.bytes_graphs += w.capacity() * sizeof(BFloat16);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
   stats_.leaves_per_level.clear();

@@ -181,7 +181,8 @@ void LinearSolver::carry_importance_back() {
     for (NodeId leaf : g.leaves(h)) {
       for (VertexId v : h.corners(leaf)) sum[g.index_of(v)] += node_importance(r, leaf) / 3.0;
     }
-    graph_importance_[gi].assign(sum.begin(), sum.end());
+    graph_importance_[gi].resize(sum.size());
+    for (std::size_t i = 0; i < sum.size(); ++i) graph_importance_[gi][i] = BFloat16(sum[i]);
   }
 }
 

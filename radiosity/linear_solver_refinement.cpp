@@ -134,7 +134,7 @@ bool LinearSolver::refine_shooters() {
 }
 
 bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
-  const std::vector<std::vector<float>>& importance = graph_importance_;
+  const std::vector<std::vector<BFloat16>>& importance = graph_importance_;
   const auto shared = shared_representation_error(candidates);
   // Each link is judged on what the last push left, which the splits below
   // do not change, so the judging runs in parallel and the splits in order:

@@ -405,7 +405,7 @@ TEST(Budgets, GraphBytesCountTheCachesAndThePerGraphVertexImportance) {
   }
   const LinearStats& stats = solver.stats();
   ASSERT_EQ(stats.graph_vertices, vertices);
-  const std::size_t importance = vertices * sizeof(float);
+  const std::size_t importance = vertices * sizeof(BFloat16);
   EXPECT_GE(stats.bytes_graphs, counted + importance);
   // The rest: a few words per graph (the caches' and tables' headers).
   EXPECT_LE(stats.bytes_graphs, counted + importance + solver.graphs().size() * 16 * sizeof(void*));

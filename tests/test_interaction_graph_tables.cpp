@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mesh/hierarchy.hpp"
+#include "radiosity/compact_tables.hpp"
 #include "radiosity/interaction_graph.hpp"
 #include "radiosity/unoccluded_cache.hpp"
 #include "scene_fixtures.hpp"
@@ -22,11 +23,83 @@
 namespace lhr {
 namespace {
 
-// Per vertex the links' offset and nothing else: no gathered value (the
-// solver sums it from the links where it reads it), no table per root, per
-// node or per receiver vertex.
+// Per vertex the links' offset, in 16 bits below 65 536 links, and nothing
+// else: no gathered value (the solver sums it from the links where it reads
+// it), no table per root, per node or per receiver vertex.
 std::size_t unsplit_bound(std::size_t vertices) {
-  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint32_t);
+  return sizeof(InteractionGraph) + (vertices + 1) * sizeof(std::uint16_t);
+}
+
+// CompactUints against a plain vector through every way it is written: the
+// values read back are the ones written, 16 bits each until one needs more,
+// 32 from then on.
+TEST(InteractionGraphTables, CompactUintsReadBackWhatWasWrittenAndWidenOnlyWhenAValueNeedsIt) {
+  std::mt19937 random(11);
+  std::uniform_int_distribution<std::uint32_t> narrow(0, CompactUints::kNarrowMax);
+  CompactUints compact;
+  std::vector<std::uint32_t> plain;
+  for (int i = 0; i < 1000; ++i) {
+    const std::uint32_t v = narrow(random);
+    compact.push_back(v);
+    plain.push_back(v);
+  }
+  compact.grow(1200, 7);
+  plain.resize(1200, 7);
+  for (int i = 0; i < 300; ++i) {
+    const std::size_t k = random() % plain.size();
+    const std::uint32_t v = narrow(random);
+    compact.set(k, v);
+    plain[k] = v;
+  }
+  compact.shrink_to_fit();
+  ASSERT_FALSE(compact.wide());
+  EXPECT_EQ(compact.bytes(), plain.size() * sizeof(std::uint16_t));
+  // One value past 16 bits widens the table and keeps every other value.
+  compact.set(500, 0x12345u);
+  plain[500] = 0x12345u;
+  ASSERT_TRUE(compact.wide());
+  compact.push_back(0xFFFFFFFFu);
+  plain.push_back(0xFFFFFFFFu);
+  compact.grow(1300, 0x10000u);
+  plain.resize(1300, 0x10000u);
+  compact.set(3, 65535);
+  plain[3] = 65535;
+  ASSERT_EQ(compact.size(), plain.size());
+  for (std::size_t k = 0; k < plain.size(); ++k) ASSERT_EQ(compact[k], plain[k]) << k;
+  EXPECT_EQ(compact.back(), plain.back());
+  // Assigning values that fit makes it narrow again.
+  compact.assign(10, 65535);
+  EXPECT_FALSE(compact.wide());
+  EXPECT_EQ(compact.size(), 10u);
+  EXPECT_EQ(compact[9], 65535u);
+  // A table that starts wide.
+  const CompactUints wide(4, 70000);
+  EXPECT_TRUE(wide.wide());
+  EXPECT_EQ(wide[3], 70000u);
+}
+
+// BFloat16 keeps the importance's range with 8 significant bits: within
+// 2^-8 of the value, exact on small integers (pixel counts), order kept.
+TEST(InteractionGraphTables, BFloat16KeepsAValueWithinTwoToTheMinusEight) {
+  EXPECT_EQ(static_cast<float>(BFloat16(0.0f)), 0.0f);
+  for (int n = 0; n <= 256; ++n) EXPECT_EQ(static_cast<float>(BFloat16(static_cast<float>(n))), static_cast<float>(n));
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> exponent(-30.0, 30.0);
+  double previous_in = 0.0;
+  float previous_out = 0.0f;
+  std::vector<double> values;
+  for (int i = 0; i < 20000; ++i) values.push_back(std::pow(10.0, exponent(random)));
+  std::sort(values.begin(), values.end());
+  for (const double v : values) {
+    const float stored = BFloat16(v);
+    ASSERT_LE(std::abs(stored - v), std::ldexp(v, -8) * (1.0 + 1e-6)) << v;
+    if (v > previous_in) {
+      ASSERT_GE(stored, previous_out) << v;
+    }
+    previous_in = v;
+    previous_out = stored;
+  }
+  EXPECT_TRUE(std::isnan(static_cast<float>(BFloat16(std::nanf("")))));
 }
 
 TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {
@@ -166,11 +239,37 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
   // three tables and a leaf count, held only by a graph that splits.
   const std::size_t vertices = g.num_vertices();
   const std::size_t extra = vertices - 25;
-  const std::size_t split_header = 3 * sizeof(std::vector<std::int32_t>) + sizeof(std::uint64_t);
+  const std::size_t split_header = 3 * sizeof(std::vector<std::int32_t>) + 2 * sizeof(std::uint64_t);
   const std::size_t bound = unsplit_bound(vertices) + split_header + (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
-                            (receiver.num_vertices() - 25) * sizeof(std::int32_t);
+                            (receiver.num_vertices() - 25) * sizeof(std::uint16_t);
   EXPECT_LE(g.bytes(), bound);
   EXPECT_GT(g.bytes(), unsplit);
+}
+
+// A graph past 65 535 links (the light's graph on a Cornell floor at the
+// default settings has more) takes 32-bit offsets, and every vertex keeps
+// its own links through the widening.
+TEST(InteractionGraphTables, AGraphPastSixteenBitsOfLinksKeepsEveryVertexsLinks) {
+  SurfaceHierarchy receiver = test::grid_hierarchy(9);  // 81 vertices
+  InteractionGraph g(0, 0, receiver);
+  g.set_every_vertex_link({kWholeSurface, {}});
+  const std::size_t narrow = g.bytes();
+  const auto shooter_of = [](int vertex, int k) { return static_cast<NodeId>(vertex * 100000 + k); };
+  const std::vector<int> counts{70000, 1, 3, 0, 1000};
+  for (int i = 0; i < static_cast<int>(counts.size()); ++i) {
+    for (int k = 0; k < counts[i]; ++k) g.add_link(10 * i, {shooter_of(i, k), {}});
+  }
+  g.pack_links();
+  EXPECT_EQ(g.num_links(), 81u + 70000u + 1u + 3u + 1000u);
+  for (int v = 0; v < static_cast<int>(g.num_vertices()); ++v) {
+    const int i = v % 10 == 0 && v / 10 < static_cast<int>(counts.size()) ? v / 10 : -1;
+    const auto links = g.links(v);
+    ASSERT_EQ(links.size(), 1u + (i >= 0 ? static_cast<std::size_t>(counts[i]) : 0u)) << v;
+    EXPECT_EQ(links[0].shooter, kWholeSurface);
+    for (std::size_t k = 1; k < links.size(); ++k) ASSERT_EQ(links[k].shooter, shooter_of(i, static_cast<int>(k) - 1));
+  }
+  // The offsets went from 2 to 4 bytes a vertex.
+  EXPECT_EQ(g.bytes() - narrow, (g.num_vertices() + 1) * sizeof(std::uint16_t));
 }
 
 // The solver's unoccluded form factor cache (radiosity/unoccluded_cache.hpp)

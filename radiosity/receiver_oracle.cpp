@@ -67,11 +67,15 @@ void oracle_edges(const InteractionGraph& graph, const SurfaceHierarchy& receive
 }
 
 double ReceiverOracle::display_error(const EdgeValues& edge) const {
+  // S gives the four vertices the same (mostly: nothing, where it is hidden
+  // from all of them): no second difference and no visibility change can
+  // show, and the tone map, the oracle's cost, need not be evaluated.
+  const auto& b = edge.own;
+  if (b[0] == b[1] && b[0] == b[2] && b[0] == b[3]) return 0.0;
   double b_min = edge.total[0] - edge.own[0];
   for (int i = 1; i < 4; ++i) b_min = std::min(b_min, edge.total[i] - edge.own[i]);
   b_min = std::max(0.0, b_min);
   const auto shown = [&](double value) { return tone_.display(b_min + value); };
-  const auto& b = edge.own;
   if (std::abs(edge.visibility_1 - edge.visibility_2) < vis_threshold_) {
     double sum = 0.0;
     for (int i = 0; i < 4; ++i) sum += edge.weights[i] * shown(b[i]);

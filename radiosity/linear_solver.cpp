@@ -341,7 +341,10 @@ Rgb LinearSolver::gathered(const InteractionGraph& g, int i) const {
 
 double LinearSolver::push() {
   PhaseTimer timer(stats_.seconds_push_pull);
-  std::vector<double> change(model_.num_surfaces(), 0.0);
+  std::vector<double> change(model_.num_surfaces(), 0.0), drift(model_.num_surfaces(), 0.0);
+  // Relative changes are taken against at least 1 % of the adaptation
+  // luminance, as the relative norm is (docs/accuracy.md).
+  const double drift_floor = 0.01 * adaptation_;
   unoccluded_at_.resize(graphs_.size());
   // Every graph gathers here, from the shooters' values of the last pull (a
   // Jacobi step), so no surface is pulled until every one has been pushed.
@@ -414,12 +417,16 @@ double LinearSolver::push() {
     std::vector<Rgb>& values = total;
     for (std::size_t v = 0; v < nv; ++v) {
       for (int c = 0; c < 3; ++c) values[v][c] = m.emission[c] + m.reflectance[c] * total[v][c];
-      change[r] = std::max(change[r], std::abs(luminance(values[v]) - luminance(st.radiance[v])));
+      const double now = luminance(values[v]), moved = std::abs(now - luminance(st.radiance[v]));
+      change[r] = std::max(change[r], moved);
+      const double scale = std::max(now, drift_floor);
+      drift[r] = std::max(drift[r], scale > 0.0 ? moved / scale : (moved > 0.0 ? std::numeric_limits<double>::infinity() : 0.0));
     }
     pushed[r] = std::move(values);
   });
   tbb::parallel_for(0, model_.num_surfaces(), [&](int r) {
     surfaces_[r].radiance = std::move(pushed[r]);
+    surfaces_[r].drift = drift[r];
     pull(r);
   });
   return *std::max_element(change.begin(), change.end());
@@ -430,6 +437,7 @@ bool LinearSolver::refine() {
   PhaseTimer timer(stats_.seconds_oracles);
   if (budget_.counts_bytes()) collect_stats();
   budget_.plan(links_now_, stats_.bytes_total());
+  oracle_watch_.resize(graphs_.size());
   bool changed = refine_shooters();
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
   std::vector<PendingLink> pending;
@@ -528,6 +536,7 @@ void LinearStats::write_json(nlohmann::json& doc) const {
               {"graph_vertices", graph_vertices},
               {"elements_per_level", leaves_per_level},
               {"receiver_splits", receiver_splits},
+              {"receiver_judgements", receiver_judgements},
               {"shooter_refinements", shooter_refinements},
               {"vertex_error_refinements", vertex_error_refinements},
               {"links_linked_past_budget", links_linked_past_budget},

@@ -105,6 +105,7 @@ struct LinearStats : SolverStats {
   // the emitted power (at most link_power).
   double power_left_out = 0.0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
+  std::size_t receiver_judgements = 0;  // graphs the receiver oracle judged, summed over its passes
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
   double world_adaptation = 0.0;
@@ -162,6 +163,10 @@ class LinearSolver {
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it
     std::vector<double> importance;  // per node: pixels plus what reflection makes of it elsewhere
+    // This iteration: the largest relative change of its radiance (push) and
+    // of its nodes' importance (carry_importance_back), what the receiver
+    // oracle's verdicts on its graphs can move with.
+    double drift = std::numeric_limits<double>::infinity();
     std::size_t synced_nodes = 0;
     bool shooting = false;
     std::vector<int> graphs_in;  // graphs with this surface as receiver
@@ -258,6 +263,16 @@ class LinearSolver {
   // Per graph and receiver vertex of a curved receiver, filled when
   // refine_receivers() first needs it: facet_spread() (NaN until computed).
   std::vector<std::vector<float>> facet_spread_at_;
+  // docs/design.md, "One iteration": the receiver oracle judges a graph again
+  // only once what it reads has drifted by kOracleDrift since it last did,
+  // or the graph or its receiver's hierarchy has changed. Per graph: the
+  // drift since then (infinite: judge) and R's node count then.
+  struct OracleWatch {
+    double drift = std::numeric_limits<double>::infinity();
+    std::size_t receiver_nodes = 0;
+  };
+  std::vector<OracleWatch> oracle_watch_;
+  double tone_drift_ = std::numeric_limits<double>::infinity();  // adaptation and brightest, this iteration
   double max_emitted_ = 0.0;
   double total_emitted_power_ = 0.0;
   ElementFloor floor_;

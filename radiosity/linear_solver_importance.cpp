@@ -44,6 +44,12 @@ void LinearSolver::update_importance() {
       }
     }
   }
+  const double adaptation_before = adaptation_, brightest_before = brightest_;
+  // What the receiver oracle's tone map moved by (docs/design.md, "One iteration").
+  const auto note_tone_drift = [&] {
+    tone_drift_ = std::abs(adaptation_ - adaptation_before) / adaptation_ +
+                  std::abs(brightest_ - brightest_before) / brightest_;
+  };
   constexpr double kDelta = 1e-6;  // as the images' log-average (render/)
   if (options_.view.empty()) {
     // Seen face-on: the area-weighted log-average over the initial triangles.
@@ -62,8 +68,9 @@ void LinearSolver::update_importance() {
     adaptation_ = std::exp(log_sum);
     if (!(adaptation_ > kDelta)) adaptation_ = max_emitted_ > 0 ? max_emitted_ : 1.0;
     if (!(brightest_ > 0)) brightest_ = adaptation_;
+    note_tone_drift();
     carry_importance_back();
-      return;
+    return;
   }
   // Each pixel counts for every node on the way down to the leaf it sees
   // (paper §4: a node's importance is the share of the image it covers);
@@ -104,6 +111,7 @@ void LinearSolver::update_importance() {
   adaptation_ = std::exp(log_sum / static_cast<double>(options_.view.size()));
   if (!(adaptation_ > kDelta)) adaptation_ = max_emitted_ > 0 ? max_emitted_ : 1.0;
   if (!(brightest_ > 0)) brightest_ = adaptation_;
+  note_tone_drift();
   carry_importance_back();
 }
 
@@ -164,12 +172,19 @@ void LinearSolver::carry_importance_back() {
       const NodeId parent = h.parent(static_cast<NodeId>(k));
       if (parent != kNoNode) below[parent] += below[k];
     }
+    std::vector<double> before(n, 0.0);
+    std::copy_n(st.importance.begin(), std::min(n, st.importance.size()), before.begin());
     st.importance.assign(n, 0.0);
+    // A node's pixels matter to the receiver oracle from ε_pixel on.
+    const double floor = std::max(options_.eps_pixel, 1e-12);
+    double drift = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
       const NodeId parent = h.parent(static_cast<NodeId>(k));
       if (parent != kNoNode) above[k] = 0.25 * (above[parent] + st.deposit[parent]);
       st.importance[k] = st.pixels[k] + above[k] + below[k];
+      drift = std::max(drift, std::abs(st.importance[k] - before[k]) / std::max(st.importance[k], floor));
     }
+    st.drift = std::max(st.drift, drift);
   }
   graph_importance_.assign(graphs_.size(), {});
   std::vector<double> sum;

@@ -23,6 +23,9 @@ namespace {
 // the adaptation luminance, so that nodes in the dark do not refine without
 // bound (the relative norm floors its errors at 1 % of the mean alike).
 constexpr double kRelativeErrorFloor = 0.01;
+// How far, relative, what a graph's receiver-oracle verdict reads may drift
+// before it is judged again (docs/design.md, "One iteration").
+constexpr double kOracleDrift = 0.01;
 // Receiver refinement in object space: a graph edge is split when the power
 // linear interpolation misplaces across it reaches this fraction of the
 // emitted power (refine_receivers). Next to concave edges that error has one
@@ -192,6 +195,7 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
       g.add_link(p.vertex, {kids[c], {}});
     }
     links_now_ += kids.size() - 1;
+    oracle_watch_[p.graph].drift = std::numeric_limits<double>::infinity();
     ++stats_.shooter_refinements;
     if (verdict[k] == kOwnError) ++stats_.vertex_error_refinements;
     changed = true;
@@ -444,10 +448,28 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
   // is judged first, in parallel, while nothing is split; then the splits
   // are made graph by graph, in order. Judged one graph after
   // another, the oracle was half of a room's solve on one core.
+  // A graph is judged again only when what its verdict reads has moved
+  // (docs/design.md, "One iteration"): its links (the shooter oracle marks
+  // the graphs it refines), R's hierarchy, or by kOracleDrift in all, since
+  // it was last judged, R's and S's radiance and R's importance relative to
+  // themselves, and the tone map's adaptation. Unjudged, it would say what
+  // it said then: nothing to split, or it would have split since.
   if (facet_spread_at_.size() < graphs_.size()) facet_spread_at_.resize(graphs_.size());
+  std::vector<std::uint8_t> judge(graphs_.size(), 0);
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    OracleWatch& w = oracle_watch_[gi];
+    w.drift += surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift + tone_drift_;
+    const std::size_t nodes = model_.hierarchy(g.receiver_surface()).num_nodes();
+    if (!(w.drift < kOracleDrift) || w.receiver_nodes != nodes) {
+      judge[gi] = 1;
+      w = {0.0, nodes};
+      ++stats_.receiver_judgements;
+    }
+  }
   std::vector<std::vector<NodeId>> to_split(graphs_.size());
   interruptible_parallel_for(graphs_.size(), options_.checkpoint, [&](std::size_t gi) {
-    to_split[gi] = receiver_leaves_to_split(static_cast<int>(gi), tone);
+    if (judge[gi]) to_split[gi] = receiver_leaves_to_split(static_cast<int>(gi), tone);
   });
   bool changed = false;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {

@@ -77,6 +77,12 @@ struct LinearOptions {
   // emitted power, so the light dropped is bounded however many small
   // surfaces the scene has.
   double link_power = 1e-4;
+  // The receiver oracle judges a graph again only once what its verdict reads
+  // (S's and R's radiance, R's importance, the tone map's adaptation) has
+  // moved by this much, relative and summed over the iterations since it
+  // last did, or its links or R's hierarchy changed (docs/design.md, "One
+  // iteration"). 0 judges every graph at every pass.
+  double oracle_drift = 0.01;
   int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
   std::size_t max_links = 0;   // 0 = no limit
   // Memory of the radiosity data (LinearStats::bytes_total(): hierarchies,
@@ -264,7 +270,7 @@ class LinearSolver {
   // refine_receivers() first needs it: facet_spread() (NaN until computed).
   std::vector<std::vector<float>> facet_spread_at_;
   // docs/design.md, "One iteration": the receiver oracle judges a graph again
-  // only once what it reads has drifted by kOracleDrift since it last did,
+  // only once what it reads has drifted by oracle_drift since it last did,
   // or the graph or its receiver's hierarchy has changed. Per graph: the
   // drift since then (infinite: judge) and R's node count then.
   struct OracleWatch {

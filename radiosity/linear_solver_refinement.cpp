@@ -23,9 +23,6 @@ namespace {
 // the adaptation luminance, so that nodes in the dark do not refine without
 // bound (the relative norm floors its errors at 1 % of the mean alike).
 constexpr double kRelativeErrorFloor = 0.01;
-// How far, relative, what a graph's receiver-oracle verdict reads may drift
-// before it is judged again (docs/design.md, "One iteration").
-constexpr double kOracleDrift = 0.01;
 // Receiver refinement in object space: a graph edge is split when the power
 // linear interpolation misplaces across it reaches this fraction of the
 // emitted power (refine_receivers). Next to concave edges that error has one
@@ -450,9 +447,9 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
   // another, the oracle was half of a room's solve on one core.
   // A graph is judged again only when what its verdict reads has moved
   // (docs/design.md, "One iteration"): its links (the shooter oracle marks
-  // the graphs it refines), R's hierarchy, or by kOracleDrift in all, since
+  // the graphs it refines), R's hierarchy, or, by oracle_drift in all since
   // it was last judged, R's and S's radiance and R's importance relative to
-  // themselves, and the tone map's adaptation. Unjudged, it would say what
+  // themselves and the tone map's adaptation. Unjudged, it would say what
   // it said then: nothing to split, or it would have split since.
   if (facet_spread_at_.size() < graphs_.size()) facet_spread_at_.resize(graphs_.size());
   std::vector<std::uint8_t> judge(graphs_.size(), 0);
@@ -461,7 +458,7 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
     OracleWatch& w = oracle_watch_[gi];
     w.drift += surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift + tone_drift_;
     const std::size_t nodes = model_.hierarchy(g.receiver_surface()).num_nodes();
-    if (!(w.drift < kOracleDrift) || w.receiver_nodes != nodes) {
+    if (!(w.drift < options_.oracle_drift) || w.receiver_nodes != nodes) {
       judge[gi] = 1;
       w = {0.0, nodes};
       ++stats_.receiver_judgements;

@@ -44,7 +44,11 @@ MethodRun run_method(MeshedScene& model, const Options& options, nlohmann::json 
   const auto& st = solver.stats();
   MethodRun run;
   run.budget_reached = st.link_budget_reached;
-  run.memory_budget_reached = st.memory_budget_reached;
+  // docs/robustness.md, "Budgets": a shooter's first links are made whatever
+  // the budget (without them its light would reach nothing), so the data can
+  // end over it with no refinement ever refused.
+  run.memory_budget_reached =
+      st.memory_budget_reached || (options.max_bytes > 0 && st.bytes_total() > options.max_bytes);
   run.parameters = std::move(parameters);
   run.parameters.update({{"min_edge", options.min_edge > 0 ? options.min_edge : model.max_edge() / 32.0},
                          {"max_iterations", options.max_iterations},
@@ -53,6 +57,7 @@ MethodRun run_method(MeshedScene& model, const Options& options, nlohmann::json 
                          {"max_bytes", options.max_bytes},
                          {"visibility_samples", options.visibility_samples}});
   st.write_json(run.stats);
+  run.stats["memory_budget_reached"] = run.memory_budget_reached;
   return run;
 }
 
@@ -124,11 +129,19 @@ void check_meshing_options(const MeshingOptions& meshing, OptionStyle style) {
   }
 }
 
+namespace {
+
+// The --max-memory of the method that runs.
+std::size_t memory_budget(const SolveSettings& settings) {
+  return settings.method == SolveMethod::kLinear ? settings.linear.max_bytes : settings.classical.max_bytes;
+}
+
+}  // namespace
+
 void check_image_budget(const SolveSettings& settings, OptionStyle style) {
   const std::size_t machine = machine_memory_bytes();
   if (machine == 0) return;
-  const std::size_t max_bytes = settings.method == SolveMethod::kLinear ? settings.linear.max_bytes
-                                                                        : settings.classical.max_bytes;
+  const std::size_t max_bytes = memory_budget(settings);
   const double pixels = static_cast<double>(settings.camera.width) * static_cast<double>(settings.camera.height);
   const double needed = pixels * static_cast<double>(kImageBytesPerPixel);
   const double beside = kBudgetPeakMargin * static_cast<double>(max_bytes);
@@ -155,7 +168,14 @@ std::vector<std::string> solution_warnings(const SolveSettings& settings, const 
   if (solution.link_budget_reached) {
     warnings.push_back(option_name("max_links", style) + " reached; refinement stopped early");
   }
-  if (solution.memory_budget_reached) {
+  const std::size_t max_bytes = memory_budget(settings);
+  const std::size_t data = solution.stats.contains("bytes") ? solution.stats["bytes"].value("total", std::size_t{0}) : 0;
+  if (max_bytes > 0 && data > max_bytes) {
+    warnings.push_back("the radiosity data ended at " + format_bytes(data) + ", over " +
+                       option_name("max_memory", style) + " (" + format_bytes(max_bytes) +
+                       "): every shooter's first links are made whatever the budget, so that none of the light "
+                       "is dropped, and nothing was refined past it");
+  } else if (solution.memory_budget_reached) {
     warnings.push_back(option_name("max_memory", style) + " reached; refinement stopped early");
   }
   // An iteration limit, not convergence, ends a solve whose light does not

@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -283,6 +284,36 @@ TEST(Budgets, MaxLinksWarnsAndIsRecordedInStats) {
   EXPECT_FALSE(capped["memory_budget_reached"].get<bool>());
   EXPECT_LE(capped["links"].get<std::size_t>(),
             50000 + kLinkOvershoot + capped["links_linked_past_budget"].get<std::size_t>());
+}
+
+// 400 small lamps over a floor (docs/robustness.md, "Budgets"): each lamp's
+// first links reach the floor's initial vertices whatever the budget, or its
+// light would be lost, so under --max-memory 1M the data ends over it (6 MB)
+// without any refinement being refused. The run must say so, in stats.json
+// and in a warning naming both sizes; it said nothing before.
+TEST(Budgets, FirstLinksOverTheMemoryBudgetAreReportedAndWarned) {
+  const auto dir = test::fresh_dir("budget_lamps");
+  std::ostringstream obj;
+  obj << "mtllib lamps.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\nusemtl lamp\n";
+  int n = 4;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      const double x = -4.75 + 0.5 * i, z = -4.75 + 0.5 * j, a = 0.015;
+      obj << "v " << x - a << " 2 " << z - a << "\nv " << x + a << " 2 " << z - a << "\nv " << x + a << " 2 " << z + a
+          << "\nv " << x - a << " 2 " << z + a << "\nf " << n + 1 << ' ' << n + 2 << ' ' << n + 3 << ' ' << n + 4 << '\n';
+      n += 4;
+    }
+  }
+  std::ofstream(dir / "lamps.obj") << obj.str();
+  std::ofstream(dir / "lamps.mtl") << "newmtl floor\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+  std::string err;
+  const nlohmann::json stats = solve_file(dir / "lamps.obj", "budget_lamps_out", {"--max-memory", "1M"}, &err);
+  EXPECT_TRUE(stats["memory_budget_reached"].get<bool>());
+  EXPECT_GT(stats["bytes"]["total"].get<double>(), 1024.0 * 1024.0);
+  // Every lamp lights the floor: one link at least from each.
+  EXPECT_GE(stats["links"].get<std::size_t>(), 400u);
+  EXPECT_NE(err.find("warning: the radiosity data ended at"), std::string::npos) << err;
+  EXPECT_NE(err.find("over --max-memory (1 MiB)"), std::string::npos) << err;
 }
 
 TEST(Budgets, MaxMemoryTakesSizesAndRejectsNonsense) {

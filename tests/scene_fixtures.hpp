@@ -218,6 +218,17 @@ inline std::vector<ViewSample> camera_view(const MeshedScene& model, int size) {
   return view_from(model, camera);
 }
 
+// Quick linear-solver settings for a scene seen by its camera at size x size
+// pixels: the given thresholds, 2 x 2 shadow rays a link.
+inline LinearOptions quick_linear_options(const MeshedScene& model, double eps_link, double eps_pixel, int size) {
+  LinearOptions options;
+  options.eps_link = eps_link;
+  options.eps_pixel = eps_pixel;
+  options.visibility_samples = 2;
+  options.view = camera_view(model, size);
+  return options;
+}
+
 // ---------------------------------------------------------------------------
 // Initial meshing (test_planar_mesh, test_curved_mesh, test_initial_mesh):
 // input surfaces built in code, and what those tests measure of a mesh, each

@@ -75,11 +75,7 @@ Outcome solve_linear(std::size_t max_links, std::size_t max_bytes, int threads =
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
   MeshedScene model(cornell(), coarse_meshing());
-  LinearOptions options;
-  options.eps_link = 5.0;
-  options.eps_pixel = 0.1;
-  options.visibility_samples = 2;
-  options.view = test::camera_view(model, 128);
+  LinearOptions options = test::quick_linear_options(model, 5.0, 0.1, 128);
   options.max_links = max_links;
   options.max_bytes = max_bytes;
   LinearSolver solver(model, options);

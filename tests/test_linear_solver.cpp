@@ -448,12 +448,7 @@ TEST(LinearSolver, InvariantsHoldAfterEveryIteration) {
   MeshingOptions meshing;
   meshing.max_edge = 120.0;
   MeshedScene model(loaded.scene, meshing);
-  LinearOptions options;
-  options.eps_link = 10.0;
-  options.eps_pixel = 0.1;
-  options.visibility_samples = 2;
-  options.view = test::camera_view(model, 128);
-  LinearSolver solver(model, options);
+  LinearSolver solver(model, test::quick_linear_options(model, 10.0, 0.1, 128));
   int iterations = 0;
   solver.solve([&](int iteration, double) {
     expect_invariants(model, solver, iteration);
@@ -471,12 +466,7 @@ TEST(LinearSolver, SameResultWhateverTheThreadCount) {
     MeshingOptions meshing;
     meshing.max_edge = 120.0;
     MeshedScene model(loaded.scene, meshing);
-    LinearOptions options;
-    options.eps_link = 10.0;
-    options.eps_pixel = 0.1;
-    options.visibility_samples = 2;
-    options.view = test::camera_view(model, 128);
-    LinearSolver solver(model, options);
+    LinearSolver solver(model, test::quick_linear_options(model, 10.0, 0.1, 128));
     solver.solve();
     std::vector<Rgb> all;
     for (int s = 0; s < model.num_surfaces(); ++s) {

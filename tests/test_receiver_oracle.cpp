@@ -242,11 +242,7 @@ TEST(ReceiverOracle, GraphsLeftUnjudgedWhileNothingMovesGiveWhatJudgingEveryGrap
     MeshingOptions meshing;
     meshing.max_edge = 120.0;
     MeshedScene model(loaded.scene, meshing);
-    LinearOptions options;
-    options.eps_link = 20.0;
-    options.eps_pixel = 0.3;
-    options.visibility_samples = 2;
-    options.view = test::camera_view(model, 96);
+    LinearOptions options = test::quick_linear_options(model, 20.0, 0.3, 96);
     options.oracle_drift = drift;
     LinearSolver solver(model, options);
     Outcome out{{}, 0, 0, 0, 0};

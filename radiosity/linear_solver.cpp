@@ -345,6 +345,7 @@ double LinearSolver::push() {
   // Relative changes are taken against at least 1 % of the adaptation
   // luminance, as the relative norm is (docs/accuracy.md).
   const double drift_floor = 0.01 * adaptation_;
+  constexpr double kNoBound = std::numeric_limits<double>::infinity();
   unoccluded_at_.resize(graphs_.size());
   // Every graph gathers here, from the shooters' values of the last pull (a
   // Jacobi step), so no surface is pulled until every one has been pushed.
@@ -420,7 +421,8 @@ double LinearSolver::push() {
       const double now = luminance(values[v]), moved = std::abs(now - luminance(st.radiance[v]));
       change[r] = std::max(change[r], moved);
       const double scale = std::max(now, drift_floor);
-      drift[r] = std::max(drift[r], scale > 0.0 ? moved / scale : (moved > 0.0 ? std::numeric_limits<double>::infinity() : 0.0));
+      const double relative = scale > 0.0 ? moved / scale : (moved > 0.0 ? kNoBound : 0.0);
+      drift[r] = std::max(drift[r], relative);
     }
     pushed[r] = std::move(values);
   });
@@ -437,6 +439,8 @@ bool LinearSolver::refine() {
   PhaseTimer timer(stats_.seconds_oracles);
   if (budget_.counts_bytes()) collect_stats();
   budget_.plan(links_now_, stats_.bytes_total());
+  // Sized exactly: growth by doubling would leave spare room per graph.
+  oracle_watch_.reserve(graphs_.size());
   oracle_watch_.resize(graphs_.size());
   bool changed = refine_shooters();
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
@@ -502,6 +506,7 @@ void LinearSolver::collect_stats() {
   // the memory budget must see it (2 bytes a graph vertex).
   stats_.bytes_graphs += graph_importance_.capacity() * sizeof(graph_importance_[0]);
   for (const std::vector<BFloat16>& w : graph_importance_) stats_.bytes_graphs += w.capacity() * sizeof(BFloat16);
+  stats_.bytes_graphs += oracle_watch_.capacity() * sizeof(OracleWatch);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
   stats_.leaves_per_level.clear();

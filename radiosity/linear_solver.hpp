@@ -274,8 +274,8 @@ class LinearSolver {
   // or the graph or its receiver's hierarchy has changed. Per graph: the
   // drift since then (infinite: judge) and R's node count then.
   struct OracleWatch {
-    double drift = std::numeric_limits<double>::infinity();
-    std::size_t receiver_nodes = 0;
+    float drift = std::numeric_limits<float>::infinity();
+    std::uint32_t receiver_nodes = 0;
   };
   std::vector<OracleWatch> oracle_watch_;
   double tone_drift_ = std::numeric_limits<double>::infinity();  // adaptation and brightest, this iteration

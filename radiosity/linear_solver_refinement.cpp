@@ -192,7 +192,7 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
       g.add_link(p.vertex, {kids[c], {}});
     }
     links_now_ += kids.size() - 1;
-    oracle_watch_[p.graph].drift = std::numeric_limits<double>::infinity();
+    oracle_watch_[p.graph].drift = std::numeric_limits<float>::infinity();
     ++stats_.shooter_refinements;
     if (verdict[k] == kOwnError) ++stats_.vertex_error_refinements;
     changed = true;
@@ -456,11 +456,12 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
     OracleWatch& w = oracle_watch_[gi];
-    w.drift += surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift + tone_drift_;
-    const std::size_t nodes = model_.hierarchy(g.receiver_surface()).num_nodes();
+    w.drift += static_cast<float>(surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift +
+                                  tone_drift_);
+    const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.receiver_surface()).num_nodes());
     if (!(w.drift < options_.oracle_drift) || w.receiver_nodes != nodes) {
       judge[gi] = 1;
-      w = {0.0, nodes};
+      w = {0.0f, nodes};
       ++stats_.receiver_judgements;
     }
   }

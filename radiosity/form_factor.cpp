@@ -284,4 +284,19 @@ std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Ve
   return std::clamp(-sum / (2.0 * M_PI), 0.0, 1.0);
 }
 
+std::optional<double> open_outline_form_factor(const Vec3& x, const Vec3& n,
+                                               std::span<const std::array<Vec3, 3>> triangles,
+                                               std::span<const Vec3> points,
+                                               std::span<const std::array<std::int32_t, 2>> outline) {
+  if (outline.empty()) return std::nullopt;
+  for (const auto& t : triangles) {
+    if (view_of(x, n, t) != TriangleView::kContour) return std::nullopt;
+  }
+  double sum = 0.0;
+  for (const auto& e : outline) {
+    sum += edge_term(x, n, points[static_cast<std::size_t>(e[0])], points[static_cast<std::size_t>(e[1])]);
+  }
+  return std::clamp(-sum / (2.0 * M_PI), 0.0, 1.0);
+}
+
 }  // namespace lhr

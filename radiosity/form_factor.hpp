@@ -60,4 +60,18 @@ std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Ve
                                           std::span<const std::array<std::int32_t, 2>> outline,
                                           bool* clipped = nullptr);
 
+// Form factor from x of a surface of triangles that share edges, planar or
+// not, given its outline as for outline_form_factor. Where every triangle is
+// seen plainly (x clear of its plane, in front of it, and the triangle wholly
+// above x's tangent plane), each triangle's form factor is its contour
+// integral and the inner edges cancel whatever the angle between their
+// triangles, so the sum is the outline's contour integral: the cost of the
+// outline, not of the triangles' edges (docs/design.md, "Cluster outlines").
+// nullopt where some triangle is not seen plainly: the caller then takes
+// them one by one.
+std::optional<double> open_outline_form_factor(const Vec3& x, const Vec3& n,
+                                               std::span<const std::array<Vec3, 3>> triangles,
+                                               std::span<const Vec3> points,
+                                               std::span<const std::array<std::int32_t, 2>> outline);
+
 }  // namespace lhr

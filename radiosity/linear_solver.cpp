@@ -65,9 +65,10 @@ LinearSolver::LinearSolver(MeshedScene& model, LinearOptions options)
       }
       st.centre /= model_.surface_area(s);
     }
-    if (model_.scene().surfaces[s].planar) {
-      st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters.tree, st.root_edges);
-    }
+    // A curved surface's outlines serve its whole-surface form factor where
+    // every root is seen plainly (unoccluded_form_factor); its cluster links
+    // still take their roots one by one.
+    st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters.tree, st.root_edges);
     sync_vertices(s);
   }
 }

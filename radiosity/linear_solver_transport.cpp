@@ -113,9 +113,20 @@ double LinearSolver::unoccluded_form_factor(const ReceiverPoint& point, int s) c
       ff += point_polygon_form_factor(point.x, point.normal, polygon, approach);
     }
   } else {
-    for (std::size_t root = 0; root < h.num_roots(); ++root) {
-      ff += point_triangle_form_factor(point.x, point.normal, model_.triangle(s, static_cast<NodeId>(root)), approach);
+    // docs/design.md, "Cluster outlines": seen plainly, the roots' inner
+    // edges cancel even where the surface bends; otherwise each inner edge
+    // is still integrated once.
+    const SurfaceState& st = surfaces_[s];
+    if (!st.outlines.start.empty()) {
+      const TriMesh& mesh = h.mesh();
+      const std::optional<double> outline =
+          open_outline_form_factor(point.x, point.normal, st.root_triangles.corner,
+                                   std::span<const Vec3>(mesh.points(), mesh.n_vertices()), st.outlines.of(0));
+      if (outline) return *outline;
     }
+    thread_local std::vector<double> per_root;
+    shared_edge_form_factors(point.x, point.normal, st.root_triangles.corner, st.root_edges, approach, per_root);
+    for (const double f : per_root) ff += f;
   }
   return ff;
 }

@@ -249,6 +249,54 @@ TEST(FormFactor, ClusterOutlineGivesTheSumOfItsTrianglesFormFactors) {
   }
 }
 
+// A bent surface (a cylinder's quarter, with a hole): where every triangle
+// is seen plainly, its outline's contour integral is the sum of its
+// triangles' form factors although they are not coplanar; where one is not
+// (behind x, or cut by x's horizon), the outline is refused.
+TEST(FormFactor, OpenOutlineOfABentSurfaceGivesTheSumOfItsTrianglesFormFactors) {
+  constexpr int kCells = 8;
+  const SurfaceHierarchy h(grid_mesh(
+      kCells,
+      [](int i, int j) {
+        const double angle = 0.5 * M_PI * i / kCells;
+        return Vec3(4.0 * std::sin(angle), j, 4.0 * (1.0 - std::cos(angle)));
+      },
+      [](int i, int j) { return i == 5 && j == 2; }));
+  const std::vector<std::array<Vec3, 3>> triangles = root_triangles(h);
+  std::vector<RootCluster> clusters(1);
+  for (std::size_t f = 0; f < triangles.size(); ++f) clusters[0].roots.push_back(static_cast<NodeId>(f));
+  const ClusterOutlines outlines = cluster_outlines(h, clusters, root_corner_edges(h), 1);
+  const std::span<const Vec3> points(h.mesh().points(), h.mesh().n_vertices());
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int taken = 0, refused = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 x(2.0 + 4.0 * u(random), 4.0 + 6.0 * u(random), 3.0 + 3.0 * u(random));
+    const Vec3 n = Vec3(u(random), u(random), u(random)).normalized();
+    double sum = 0.0;
+    bool plain = true;
+    for (const auto& t : triangles) {
+      sum += point_triangle_form_factor(x, n, t);
+      const Vec3 normal = OpenMesh::cross(t[1] - t[0], t[2] - t[0]).normalized();
+      plain = plain && OpenMesh::dot(normal, x - t[0]) > 1e-3;
+      for (const Vec3& p : t) plain = plain && OpenMesh::dot(n, p - x) > 1e-9;
+    }
+    const std::optional<double> f = open_outline_form_factor(x, n, triangles, points, outlines.of(0));
+    if (plain) {
+      ASSERT_TRUE(f.has_value()) << "receiver " << i;
+      EXPECT_NEAR(*f, sum, 1e-12 + 1e-10 * sum) << "receiver " << i;
+      ++taken;
+    } else {
+      if (f) {
+        EXPECT_NEAR(*f, sum, 1e-12 + 1e-10 * sum) << "receiver " << i << ": an answer where one is not plain must agree";
+      }
+      refused += f ? 0 : 1;
+    }
+  }
+  EXPECT_GT(taken, 50);
+  EXPECT_GT(refused, 50);
+}
+
 TEST(Sampling, OneUniformSampleIsTheStratifiedPatternOfOne) {
   for (std::uint64_t key = 0; key < 1000; ++key) {
     const auto one = uniform_triangle_sample(sample_key(key, 2));

@@ -443,6 +443,8 @@ bool LinearSolver::refine() {
   // Sized exactly: growth by doubling would leave spare room per graph.
   oracle_watch_.reserve(graphs_.size());
   oracle_watch_.resize(graphs_.size());
+  shooter_watch_.reserve(graphs_.size());
+  shooter_watch_.resize(graphs_.size());
   bool changed = refine_shooters();
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
   std::vector<PendingLink> pending;
@@ -507,7 +509,7 @@ void LinearSolver::collect_stats() {
   // the memory budget must see it (2 bytes a graph vertex).
   stats_.bytes_graphs += graph_importance_.capacity() * sizeof(graph_importance_[0]);
   for (const std::vector<BFloat16>& w : graph_importance_) stats_.bytes_graphs += w.capacity() * sizeof(BFloat16);
-  stats_.bytes_graphs += oracle_watch_.capacity() * sizeof(OracleWatch);
+  stats_.bytes_graphs += (oracle_watch_.capacity() + shooter_watch_.capacity()) * sizeof(OracleWatch);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;
   stats_.leaves_per_level.clear();
@@ -543,6 +545,7 @@ void LinearStats::write_json(nlohmann::json& doc) const {
               {"elements_per_level", leaves_per_level},
               {"receiver_splits", receiver_splits},
               {"receiver_judgements", receiver_judgements},
+              {"shooter_judgements", shooter_judgements},
               {"shooter_refinements", shooter_refinements},
               {"vertex_error_refinements", vertex_error_refinements},
               {"links_linked_past_budget", links_linked_past_budget},

@@ -112,6 +112,7 @@ struct LinearStats : SolverStats {
   double power_left_out = 0.0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
   std::size_t receiver_judgements = 0;  // graphs the receiver oracle judged, summed over its passes
+  std::size_t shooter_judgements = 0;   // graphs whose links the shooter oracle judged, summed over iterations
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
   double world_adaptation = 0.0;
@@ -269,15 +270,18 @@ class LinearSolver {
   // Per graph and receiver vertex of a curved receiver, filled when
   // refine_receivers() first needs it: facet_spread() (NaN until computed).
   std::vector<std::vector<float>> facet_spread_at_;
-  // docs/design.md, "One iteration": the receiver oracle judges a graph again
-  // only once what it reads has drifted by oracle_drift since it last did,
-  // or the graph or its receiver's hierarchy has changed. Per graph: the
-  // drift since then (infinite: judge) and R's node count then.
+  // docs/design.md, "One iteration": each oracle judges a graph again only
+  // once what it reads has drifted by oracle_drift since it last did, or the
+  // graph's links or a hierarchy it reads have changed. Per graph and
+  // oracle: the drift since then (infinite: judge) and the node count then
+  // of the hierarchy it reads (R's for the receiver oracle, S's for the
+  // shooter oracle).
   struct OracleWatch {
     float drift = std::numeric_limits<float>::infinity();
-    std::uint32_t receiver_nodes = 0;
+    std::uint32_t nodes = 0;
   };
-  std::vector<OracleWatch> oracle_watch_;
+  std::vector<OracleWatch> oracle_watch_;   // the receiver oracle's
+  std::vector<OracleWatch> shooter_watch_;  // the shooter oracle's
   double tone_drift_ = std::numeric_limits<double>::infinity();  // adaptation and brightest, this iteration
   double max_emitted_ = 0.0;
   double total_emitted_power_ = 0.0;

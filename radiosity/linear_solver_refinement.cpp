@@ -97,6 +97,7 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
     links_now_ += links.size();
     g.set_links(nv.index, links);
   }
+  if (!created.empty()) shooter_watch_[gi].drift = std::numeric_limits<float>::infinity();
 }
 
 bool LinearSolver::refine_shooters() {
@@ -106,12 +107,27 @@ bool LinearSolver::refine_shooters() {
   // links graph by graph, in the order a list of all of them would have:
   // such a list is as large as the links themselves and would double the
   // memory --max-memory bounds (docs/robustness.md).
+  //
+  // A graph's links are judged again only when what their verdicts read has
+  // moved (docs/design.md, "One iteration"), as for the receiver oracle: new
+  // links (a receiver split seeds them), S's hierarchy (its elements' spread
+  // and children), or, by oracle_drift in all since they were last judged,
+  // R's and S's radiance, R's importance and the tone map's adaptation. A
+  // link the last judging kept would be kept again; its children made then
+  // were judged in that iteration's later passes.
   if (options_.checkpoint) options_.checkpoint();
   bool changed = false;
   std::vector<PendingLink> created;
   std::vector<PendingLink> candidates;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
+    OracleWatch& w = shooter_watch_[gi];
+    w.drift += static_cast<float>(surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift +
+                                  tone_drift_);
+    const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.shooter_surface()).num_nodes());
+    if (w.drift < options_.oracle_drift && w.nodes == nodes) continue;
+    w = {0.0f, nodes};
+    ++stats_.shooter_judgements;
     candidates.clear();
     for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
       for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
@@ -459,7 +475,7 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
     w.drift += static_cast<float>(surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift +
                                   tone_drift_);
     const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.receiver_surface()).num_nodes());
-    if (!(w.drift < options_.oracle_drift) || w.receiver_nodes != nodes) {
+    if (!(w.drift < options_.oracle_drift) || w.nodes != nodes) {
       judge[gi] = 1;
       w = {0.0f, nodes};
       ++stats_.receiver_judgements;

@@ -224,9 +224,10 @@ TEST(ReceiverOracle, EdgeWeightsFallBackToThePapersWhereTheLinesDoNotCross) {
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(square[i], i < 2 ? 1.0 : -1.0, 1e-15);
 }
 
-// docs/design.md, "One iteration": a graph is judged again only when its
-// links, its receiver's hierarchy, or (by oracle_drift, summed) the radiance,
-// importance and adaptation it reads have moved. The truth is the same solve
+// docs/design.md, "One iteration": a graph is judged again, by either
+// oracle, only when its links, the hierarchy the oracle reads, or (by
+// oracle_drift, summed) the radiance, importance and adaptation it reads
+// have moved. The truth is the same solve
 // judging every graph at every pass (oracle_drift 0): the links and each
 // surface's mean radiance must agree, while fewer graphs are judged. (Here
 // late verdicts hardly depend on the inputs' last per cent: leaving the
@@ -235,7 +236,7 @@ TEST(ReceiverOracle, GraphsLeftUnjudgedWhileNothingMovesGiveWhatJudgingEveryGrap
   const LoadResult loaded = load_scene(test::source_dir() / "data/cornell/cornell.scene.json");
   struct Outcome {
     std::vector<double> mean;  // per surface, over its vertices
-    std::size_t links, judgements, splits;
+    std::size_t links, judgements, shooter_judgements, splits;
     int iterations;
   };
   const auto run = [&](double drift) {
@@ -245,7 +246,7 @@ TEST(ReceiverOracle, GraphsLeftUnjudgedWhileNothingMovesGiveWhatJudgingEveryGrap
     LinearOptions options = test::quick_linear_options(model, 20.0, 0.3, 96);
     options.oracle_drift = drift;
     LinearSolver solver(model, options);
-    Outcome out{{}, 0, 0, 0, 0};
+    Outcome out{{}, 0, 0, 0, 0, 0};
     solver.solve([&](int iteration, double) { out.iterations = iteration; });
     for (int s = 0; s < model.num_surfaces(); ++s) {
       double sum = 0.0;
@@ -254,6 +255,7 @@ TEST(ReceiverOracle, GraphsLeftUnjudgedWhileNothingMovesGiveWhatJudgingEveryGrap
     }
     out.links = solver.stats().links;
     out.judgements = solver.stats().receiver_judgements;
+    out.shooter_judgements = solver.stats().shooter_judgements;
     out.splits = solver.stats().receiver_splits;
     return out;
   };
@@ -261,14 +263,17 @@ TEST(ReceiverOracle, GraphsLeftUnjudgedWhileNothingMovesGiveWhatJudgingEveryGrap
   ASSERT_GT(every.splits, 10u) << "the receiver oracle must refine";
   ASSERT_GE(every.iterations, 4);
   EXPECT_LT(moved.judgements, every.judgements);
+  EXPECT_LT(moved.shooter_judgements, every.shooter_judgements) << "the shooter oracle watches its graphs too";
   EXPECT_NEAR(static_cast<double>(moved.links), static_cast<double>(every.links), 0.01 * every.links);
   EXPECT_NEAR(static_cast<double>(moved.splits), static_cast<double>(every.splits), 0.01 * every.splits);
   ASSERT_EQ(moved.mean.size(), every.mean.size());
   for (std::size_t s = 0; s < every.mean.size(); ++s) {
     EXPECT_NEAR(moved.mean[s], every.mean[s], 0.005 * every.mean[s]) << loaded.scene.surfaces[s].name;
   }
-  std::printf("judged %zu of %zu graphs; links %zu / %zu; splits %zu / %zu; iterations %d / %d\n", moved.judgements,
-              every.judgements, moved.links, every.links, moved.splits, every.splits, moved.iterations, every.iterations);
+  std::printf("receiver oracle judged %zu of %zu graphs, shooter oracle %zu of %zu; links %zu / %zu; splits %zu / %zu; "
+              "iterations %d / %d\n",
+              moved.judgements, every.judgements, moved.shooter_judgements, every.shooter_judgements, moved.links,
+              every.links, moved.splits, every.splits, moved.iterations, every.iterations);
 }
 
 }  // namespace

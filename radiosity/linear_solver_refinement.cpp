@@ -110,7 +110,8 @@ bool LinearSolver::refine_shooters() {
   //
   // A graph's links are judged again only when what their verdicts read has
   // moved (docs/design.md, "One iteration"), as for the receiver oracle: new
-  // links (a receiver split seeds them), S's hierarchy (its elements' spread
+  // links (a receiver split seeds them; its new nodes also move R's
+  // importance, so this is said twice on purpose), S's hierarchy (its elements' spread
   // and children), or, by oracle_drift in all since they were last judged,
   // R's and S's radiance, R's importance and the tone map's adaptation. A
   // link the last judging kept would be kept again; its children made then

@@ -279,7 +279,20 @@ class LinearSolver {
   struct OracleWatch {
     float drift = std::numeric_limits<float>::infinity();
     std::uint32_t nodes = 0;
+    // Adds an iteration's drift; true, and the watch starts again, when the
+    // graph is to be judged.
+    bool due(double moved, std::uint32_t nodes_now, double threshold) {
+      drift += static_cast<float>(moved);
+      if (drift < threshold && nodes == nodes_now) return false;
+      *this = {0.0f, nodes_now};
+      return true;
+    }
   };
+  // What a graph's verdicts read has moved by this iteration: R's and S's
+  // radiance and R's importance (their surfaces' drift) and the tone map's.
+  double graph_drift(const InteractionGraph& g) const {
+    return surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift + tone_drift_;
+  }
   std::vector<OracleWatch> oracle_watch_;   // the receiver oracle's
   std::vector<OracleWatch> shooter_watch_;  // the shooter oracle's
   double tone_drift_ = std::numeric_limits<double>::infinity();  // adaptation and brightest, this iteration

@@ -122,12 +122,8 @@ bool LinearSolver::refine_shooters() {
   std::vector<PendingLink> candidates;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
-    OracleWatch& w = shooter_watch_[gi];
-    w.drift += static_cast<float>(surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift +
-                                  tone_drift_);
     const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.shooter_surface()).num_nodes());
-    if (w.drift < options_.oracle_drift && w.nodes == nodes) continue;
-    w = {0.0f, nodes};
+    if (!shooter_watch_[gi].due(graph_drift(g), nodes, options_.oracle_drift)) continue;
     ++stats_.shooter_judgements;
     candidates.clear();
     for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
@@ -472,13 +468,9 @@ bool LinearSolver::refine_receivers(std::vector<PendingLink>& pending, const Ton
   std::vector<std::uint8_t> judge(graphs_.size(), 0);
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
-    OracleWatch& w = oracle_watch_[gi];
-    w.drift += static_cast<float>(surfaces_[g.receiver_surface()].drift + surfaces_[g.shooter_surface()].drift +
-                                  tone_drift_);
     const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.receiver_surface()).num_nodes());
-    if (!(w.drift < options_.oracle_drift) || w.nodes != nodes) {
+    if (oracle_watch_[gi].due(graph_drift(g), nodes, options_.oracle_drift)) {
       judge[gi] = 1;
-      w = {0.0f, nodes};
       ++stats_.receiver_judgements;
     }
   }

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <future>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -15,7 +14,6 @@
 #include "apps/interrupt.hpp"
 #include "apps/options.hpp"
 #include "apps/tone_options.hpp"
-#include "io/image_codecs.hpp"
 #include "io/image_io.hpp"
 #include "io/json_file.hpp"
 #include "io/mesh_io.hpp"
@@ -189,14 +187,7 @@ int run_solve(const Args& args) {
   // well as the images and vertex colours.
   settings.tone = tone_settings_from(vm, &scene.settings.tone_map);
 
-  // The image module takes a few tenths of a second to load (OpenImageIO's
-  // libraries): loaded beside the solve, it is ready when the images are.
-  // Not before the first iteration: while it loads, the loader is locked,
-  // and the thread pool and the ray tracer load libraries of their own as
-  // they start.
-  std::future<void> codecs_ahead;
   const auto report = [&](int iteration, double change) {
-    if (!codecs_ahead.valid()) codecs_ahead = image_codecs::load_ahead();
     throw_if_interrupted();
     if (verbose) {
       std::cerr << "iteration " << iteration << ": largest change " << change << "\n";

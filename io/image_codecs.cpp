@@ -91,14 +91,4 @@ const Table& codecs() {
   return *loaded.table;
 }
 
-std::future<void> load_ahead() {
-  return std::async(std::launch::async, [] {
-    try {
-      codecs();
-    } catch (const std::exception&) {
-      // Said again, in place, by the first codecs() that needs the module.
-    }
-  });
-}
-
 }  // namespace lhr::image_codecs

@@ -8,7 +8,6 @@
 // image now start at once.
 
 #include <array>
-#include <future>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,11 +55,5 @@ inline constexpr const char* kEntryPoint = "lhr_image_codecs_table";
 // std::runtime_error naming every place it looked when the module cannot be
 // loaded.
 const Table& codecs();
-
-// Starts loading the module on a thread of its own and returns at once, so
-// that a command that ends by writing images loads it while it computes.
-// The future is ready when the attempt is over; a failure is reported by the
-// next codecs(), not here. Its destructor waits for the attempt.
-std::future<void> load_ahead();
 
 }  // namespace lhr::image_codecs

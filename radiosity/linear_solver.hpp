@@ -77,11 +77,11 @@ struct LinearOptions {
   // emitted power, so the light dropped is bounded however many small
   // surfaces the scene has.
   double link_power = 1e-4;
-  // The receiver oracle judges a graph again only once what its verdict reads
-  // (S's and R's radiance, R's importance, the tone map's adaptation) has
-  // moved by this much, relative and summed over the iterations since it
-  // last did, or its links or R's hierarchy changed (docs/design.md, "One
-  // iteration"). 0 judges every graph at every pass.
+  // Each oracle judges a graph again only once what its verdicts read (S's
+  // and R's radiance, R's importance, the tone map's adaptation) has moved
+  // by this much, relative and summed over the iterations since it last did,
+  // or the graph's links or the hierarchy the oracle reads changed
+  // (docs/design.md, "One iteration"). 0 judges every graph at every pass.
   double oracle_drift = 0.01;
   int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
   std::size_t max_links = 0;   // 0 = no limit
@@ -171,8 +171,8 @@ class LinearSolver {
     std::vector<double> deposit;     // per node: importance its links carried back to it
     std::vector<double> importance;  // per node: pixels plus what reflection makes of it elsewhere
     // This iteration: the largest relative change of its radiance (push) and
-    // of its nodes' importance (carry_importance_back), what the receiver
-    // oracle's verdicts on its graphs can move with.
+    // of its nodes' importance (carry_importance_back), what both oracles'
+    // verdicts on its graphs can move with.
     double drift = std::numeric_limits<double>::infinity();
     std::size_t synced_nodes = 0;
     bool shooting = false;

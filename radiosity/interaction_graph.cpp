@@ -157,6 +157,11 @@ void InteractionGraph::set_links(int i, std::span<const GraphLink> links) {
   (*growing_)[i].assign(links.begin(), links.end());
 }
 
+void InteractionGraph::replace_links(int i, std::span<const GraphLink> links) {
+  if (!growing_) growing_ = std::make_unique<std::unordered_map<int, std::vector<GraphLink>>>();
+  (*growing_)[i].assign(links.begin(), links.end());
+}
+
 void InteractionGraph::pack_links() {
   // Splits grew these by doubling; a graph that splits no more keeps them
   // as they stand.

@@ -100,6 +100,8 @@ class InteractionGraph {
   void add_link(int i, const GraphLink& link);
   // Vertex i's links become `links` (a new vertex, which had none).
   void set_links(int i, std::span<const GraphLink> links);
+  // Vertex i's links become `links`, whatever it held (coarsened links).
+  void replace_links(int i, std::span<const GraphLink> links);
   // Puts the lists that grew since the last call back into the one array,
   // each vertex's links in their order, and gives back the room the tables
   // grew into during the pass.

@@ -438,14 +438,18 @@ double LinearSolver::push() {
 bool LinearSolver::refine() {
   const double coefficient_seconds = stats_.seconds_coefficients;
   PhaseTimer timer(stats_.seconds_oracles);
-  if (budget_.counts_bytes()) collect_stats();
-  budget_.plan(links_now_, stats_.bytes_total());
   // Sized exactly: growth by doubling would leave spare room per graph.
   oracle_watch_.reserve(graphs_.size());
   oracle_watch_.resize(graphs_.size());
   shooter_watch_.reserve(graphs_.size());
   shooter_watch_.resize(graphs_.size());
-  bool changed = refine_shooters();
+  // The budget is planned on what coarsening leaves: a merged link frees
+  // its own bytes, not the per-link share of everything that plan() assumes
+  // each link brings.
+  const std::vector<std::uint8_t> due = coarsen_due_graphs();
+  if (budget_.counts_bytes()) collect_stats();
+  budget_.plan(links_now_, stats_.bytes_total());
+  bool changed = refine_shooters(due);
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
   std::vector<PendingLink> pending;
   changed |= refine_receivers(pending, *tone);
@@ -548,6 +552,7 @@ void LinearStats::write_json(nlohmann::json& doc) const {
               {"shooter_judgements", shooter_judgements},
               {"shooter_refinements", shooter_refinements},
               {"vertex_error_refinements", vertex_error_refinements},
+              {"shooter_coarsenings", shooter_coarsenings},
               {"links_linked_past_budget", links_linked_past_budget},
               {"power_left_out", power_left_out},
               {"oracle_adaptation", world_adaptation}});

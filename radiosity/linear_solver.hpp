@@ -17,6 +17,8 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -83,6 +85,10 @@ struct LinearOptions {
   // or the graph's links or the hierarchy the oracle reads changed
   // (docs/design.md, "One iteration"). 0 judges every graph at every pass.
   double oracle_drift = 0.01;
+  // Merge a vertex's links to all the children of a shooter element back
+  // into one when the shooter oracle would keep that link (docs/design.md,
+  // "Coarsening links"); false keeps every link it opened, as the paper does.
+  bool coarsen_links = true;
   int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
   std::size_t max_links = 0;   // 0 = no limit
   // Memory of the radiosity data (LinearStats::bytes_total(): hierarchies,
@@ -115,6 +121,7 @@ struct LinearStats : SolverStats {
   std::size_t shooter_judgements = 0;   // graphs whose links the shooter oracle judged, summed over iterations
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
+  std::size_t shooter_coarsenings = 0;  // links merged back into their parent element
   double world_adaptation = 0.0;
   std::size_t bytes_graphs = 0;  // graph node states, vertex tables, per-graph caches and importance
   std::size_t bytes_total() const {
@@ -228,10 +235,40 @@ class LinearSolver {
   void carry_importance_back();
   double node_importance(int s, NodeId n) const;
   bool refine();
-  bool refine_shooters();
+  // Marks the graphs whose links the shooter oracle judges this iteration
+  // and coarsens their links (coarsen_links).
+  std::vector<std::uint8_t> coarsen_due_graphs();
+  // Refines the links of the graphs `due` marks.
+  bool refine_shooters(const std::vector<std::uint8_t>& due);
   // One pass of refine_shooters() over the given links; appends the links it
   // makes (without coefficients) to created.
   bool split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created);
+  // The shooter oracle's measures of one link at graph g's vertex i (it
+  // must have an importance): what the link carries, reflected, relative
+  // to the adaptation and times the vertex's importance (against
+  // eps_link), and its shooter's representation error reaching the vertex
+  // with what eps_vertex allows there.
+  struct LinkJudgement {
+    double seen = 0.0;
+    double own_error = 0.0;
+    double own_allowed = 0.0;
+  };
+  LinkJudgement judge_link(int g, int i, const GraphLink& link) const;
+  // The element whose children shooter element e is one of (a quadtree
+  // parent, the cluster that opens onto a root, a cluster's parent), or
+  // kNoNode for the whole surface.
+  NodeId parent_element(int s, NodeId e) const;
+  // The link to `parent` that the links at `slots` of `links` (all of its
+  // children, nothing else) add up to; none if they are not all of them.
+  std::optional<GraphLink> merged_link(int s, NodeId parent, std::span<const GraphLink> links,
+                                       std::span<const std::size_t> slots) const;
+  // Merges graph g's links back into their parent where the shooter oracle
+  // would keep it.
+  struct Coarsening {
+    std::size_t merges = 0;
+    std::size_t links_removed = 0;
+  };
+  Coarsening coarsen_links(int g);
   bool refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone);
   // Every graph's grown link lists back into its one array (InteractionGraph::pack_links).
   void pack_grown_links();

@@ -10,6 +10,9 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <span>
+#include <tuple>
 
 #include "radiosity/form_factor.hpp"
 #include "radiosity/interruptible.hpp"
@@ -37,6 +40,11 @@ constexpr double kPowerTolerance = 1e-5;
 constexpr double kDoubtfulInterpolation = 0.25;
 // Shooter-oracle passes per iteration: each pass opens links one level deeper.
 constexpr int kMaxShooterPasses = 24;
+// A vertex's links to all the children of one shooter element are merged
+// into one link to it when the shooter oracle would keep that link with
+// this margin below each of its thresholds, so that the next iteration's
+// small drift does not open it again (docs/design.md, "Coarsening links").
+constexpr double kCoarsenMargin = 0.5;
 
 std::uint64_t element_key(int graph, NodeId element) {
   return (static_cast<std::uint64_t>(graph) << 32) | static_cast<std::uint32_t>(element);
@@ -100,7 +108,191 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
   if (!created.empty()) shooter_watch_[gi].drift = std::numeric_limits<float>::infinity();
 }
 
-bool LinearSolver::refine_shooters() {
+NodeId LinearSolver::parent_element(int s, NodeId e) const {
+  const SurfaceClusters& clusters = surfaces_[s].clusters;
+  if (is_cluster_element(e)) {
+    const std::int32_t parent = clusters.tree[cluster_index(e)].parent;
+    return parent >= 0 ? cluster_element(parent) : kNoNode;
+  }
+  const NodeId parent = model_.hierarchy(s).parent(e);
+  if (parent != kNoNode) return parent;
+  const std::int32_t leaf = static_cast<std::size_t>(e) < clusters.leaf_of_root.size() ? clusters.leaf_of_root[e] : -1;
+  return leaf >= 0 ? cluster_element(leaf) : kNoNode;
+}
+
+std::optional<GraphLink> LinearSolver::merged_link(int s, NodeId parent, std::span<const GraphLink> links,
+                                                   std::span<const std::size_t> slots) const {
+  GraphLink out{parent, {}};
+  double unoccluded = 0.0;
+  if (!is_cluster_element(parent)) {
+    if (slots.size() != 4) return std::nullopt;
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    std::array<TransportCoefficients, 4> children;
+    for (std::size_t t : slots) children[h.child_index(links[t].shooter)] = links[t].coefficients;
+    out.coefficients = merge_child_coefficients(children);
+    return out;
+  }
+  // A constant-basis parent (a cluster) carries its children's transfer:
+  // each child's form factor weighed by what it shoots over what the parent
+  // shoots, as the shape factor weighs a cluster's triangles (transport.hpp).
+  // The plain sum of their form factors, the parent's mean shown to every
+  // receiver, lost 0.8 % of the lamp's power in a bright closed room
+  // (EnergyBalance.ABrightClosedRoomSeenInPartAbsorbsWhatItsLampEmits): a
+  // receiver sees the bright part near it with the larger form factor.
+  const SurfaceState& st = surfaces_[s];
+  const RootCluster& cluster = st.clusters.tree[cluster_index(parent)];
+  const std::size_t expected = cluster.first_child >= 0 ? 2 : cluster.roots.size();
+  if (slots.size() != expected) return std::nullopt;
+  const double carried = luminance(st.clusters.radiance[cluster_index(parent)]);
+  double visible = 0.0, transfer = 0.0;
+  for (std::size_t t : slots) {
+    const GraphLink& child = links[t];
+    for (int l = 0; l < 3; ++l) {
+      visible += child.coefficients.f[l];
+      transfer += child.coefficients.f[l] * luminance(shooter_value(s, child.shooter, l));
+    }
+    unoccluded += child.coefficients.unoccluded;
+  }
+  out.coefficients.f[0] = static_cast<float>(carried > 0.0 ? transfer / carried : visible);
+  out.coefficients.unoccluded = static_cast<float>(unoccluded);
+  return out;
+}
+
+LinearSolver::Coarsening LinearSolver::coarsen_links(int gi) {
+  // docs/design.md, "Coarsening links": a vertex's cut of S was opened for
+  // what it carried and for its own importance when it was opened (or its
+  // neighbour's, which it was seeded from). Where the oracle would now keep
+  // the coarser link, the children merge back into it.
+  Coarsening out;
+  if (!options_.coarsen_links || static_cast<std::size_t>(gi) >= graph_importance_.size()) return out;
+  InteractionGraph& g = graphs_[gi];
+  const int s = g.shooter_surface();
+  const int vertices = static_cast<int>(std::min(g.num_vertices(), graph_importance_[gi].size()));
+  struct Merge {
+    int vertex;
+    std::array<std::size_t, 4> slots;
+    std::size_t count;
+    GraphLink link;
+    double shared;  // its representation error times the vertex's importance
+  };
+  std::vector<Merge> merges;
+  std::vector<std::pair<NodeId, std::size_t>> by_parent;
+  for (int i = 0; i < vertices; ++i) {
+    const std::span<const GraphLink> links = g.links(i);
+    if (links.size() < 2) continue;
+    by_parent.clear();
+    for (std::size_t t = 0; t < links.size(); ++t) {
+      const NodeId parent = parent_element(s, links[t].shooter);
+      if (parent != kNoNode) by_parent.emplace_back(parent, t);
+    }
+    std::sort(by_parent.begin(), by_parent.end());
+    for (std::size_t a = 0; a < by_parent.size();) {
+      std::size_t b = a;
+      while (b < by_parent.size() && by_parent[b].first == by_parent[a].first) ++b;
+      const std::size_t count = b - a;
+      if (count <= 4) {
+        Merge m{i, {}, count, {}, 0.0};
+        for (std::size_t k = 0; k < count; ++k) m.slots[k] = by_parent[a + k].second;
+        if (const auto link = merged_link(s, by_parent[a].first, links, {m.slots.data(), count})) {
+          m.link = *link;
+          const LinkJudgement j = judge_link(gi, i, m.link);
+          const bool keeps = j.seen <= kCoarsenMargin * options_.eps_link &&
+                             (!(options_.eps_vertex > 0) || j.own_error <= kCoarsenMargin * j.own_allowed);
+          if (keeps) {
+            m.shared = j.own_error * graph_importance_[gi][i];
+            merges.push_back(m);
+          }
+        }
+      }
+      a = b;
+    }
+  }
+  if (merges.empty()) return out;
+  // The error an element's values carry is one over every node linked to
+  // it (shared_representation_error): with the links it has already, the
+  // merges onto one element must keep that sum under the margin too. They
+  // are taken smallest first (then by vertex, so the outcome does not
+  // depend on the order of anything else) while it does.
+  std::unordered_map<NodeId, double> shared;
+  for (const Merge& m : merges) shared.emplace(m.link.shooter, 0.0);
+  const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+  for (int i = 0; i < vertices; ++i) {
+    for (const GraphLink& link : g.links(i)) {
+      if (const auto it = shared.find(link.shooter); it != shared.end()) {
+        it->second += representation_error(s, link, rho) * graph_importance_[gi][i];
+      }
+    }
+  }
+  std::vector<std::size_t> order(merges.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(merges[a].shared, merges[a].vertex, merges[a].link.shooter) <
+           std::tie(merges[b].shared, merges[b].vertex, merges[b].link.shooter);
+  });
+  const double limit = kCoarsenMargin * options_.eps_link * adaptation_;
+  std::vector<std::uint8_t> accepted(merges.size(), 0);
+  for (std::size_t k : order) {
+    double& sum = shared.at(merges[k].link.shooter);
+    if (sum + merges[k].shared > limit) continue;
+    sum += merges[k].shared;
+    accepted[k] = 1;
+  }
+  std::vector<GraphLink> kept;
+  std::vector<std::uint8_t> gone;
+  for (std::size_t a = 0; a < merges.size();) {
+    const int i = merges[a].vertex;
+    std::size_t b = a;
+    while (b < merges.size() && merges[b].vertex == i) ++b;
+    const std::span<const GraphLink> links = g.links(i);
+    gone.assign(links.size(), 0);
+    std::vector<GraphLink> parents;
+    for (std::size_t k = a; k < b; ++k) {
+      const Merge& m = merges[k];
+      if (!accepted[k]) continue;
+      for (std::size_t c = 0; c < m.count; ++c) gone[m.slots[c]] = 1;
+      parents.push_back(m.link);
+      out.links_removed += m.count - 1;
+      ++out.merges;
+    }
+    if (!parents.empty()) {
+      kept.clear();
+      for (std::size_t t = 0; t < links.size(); ++t) {
+        if (!gone[t]) kept.push_back(links[t]);
+      }
+      kept.insert(kept.end(), parents.begin(), parents.end());
+      g.replace_links(i, kept);
+    }
+    a = b;
+  }
+  if (out.merges > 0) g.pack_links();
+  return out;
+}
+
+std::vector<std::uint8_t> LinearSolver::coarsen_due_graphs() {
+  std::vector<std::uint8_t> due(graphs_.size(), 0);
+  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    const InteractionGraph& g = graphs_[gi];
+    const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.shooter_surface()).num_nodes());
+    due[gi] = shooter_watch_[gi].due(graph_drift(g), nodes, options_.oracle_drift) ? 1 : 0;
+    stats_.shooter_judgements += due[gi];
+  }
+  // Coarsening reads only what the last push and importance pass left and
+  // writes only its own graph: the graphs are coarsened in parallel.
+  std::vector<Coarsening> coarsened(graphs_.size());
+  interruptible_parallel_for(graphs_.size(), options_.checkpoint, [&](std::size_t gi) {
+    if (due[gi]) coarsened[gi] = coarsen_links(static_cast<int>(gi));
+  });
+  // A merge keeps what the links carry but for the representation error the
+  // margin bounds; what that moves R's radiance by is R's drift at the next
+  // push, which the receiver oracle's watch reads.
+  for (const Coarsening& c : coarsened) {
+    links_now_ -= c.links_removed;
+    stats_.shooter_coarsenings += c.merges;
+  }
+  return due;
+}
+
+bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
   // Paper §4.2: a link whose largest basis contribution, reflected and seen by
   // the camera, is significant is replaced by links from the shooter's
   // children, recursively (a pass per level). The first pass takes the
@@ -121,10 +313,8 @@ bool LinearSolver::refine_shooters() {
   std::vector<PendingLink> created;
   std::vector<PendingLink> candidates;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+    if (!due[gi]) continue;
     const InteractionGraph& g = graphs_[gi];
-    const auto nodes = static_cast<std::uint32_t>(model_.hierarchy(g.shooter_surface()).num_nodes());
-    if (!shooter_watch_[gi].due(graph_drift(g), nodes, options_.oracle_drift)) continue;
-    ++stats_.shooter_judgements;
     candidates.clear();
     for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
       for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
@@ -146,6 +336,28 @@ bool LinearSolver::refine_shooters() {
   return changed;
 }
 
+LinearSolver::LinkJudgement LinearSolver::judge_link(int gi, int i, const GraphLink& link) const {
+  const InteractionGraph& g = graphs_[gi];
+  const int s = g.shooter_surface();
+  const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+  double largest = 0.0;
+  for (int l = 0; l < 3; ++l) {
+    Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
+    for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
+    largest = std::max(largest, luminance(transfer));
+  }
+  LinkJudgement out;
+  out.seen = largest / adaptation_ * graph_importance_[gi][i];
+  // A node made in this refinement pass has no value yet: the floor
+  // stands for it until the next push.
+  const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
+  const VertexId v = g.vertex(i);
+  const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
+  out.own_error = representation_error(s, link, rho);
+  out.own_allowed = options_.eps_vertex * std::max(own, kRelativeErrorFloor * adaptation_);
+  return out;
+}
+
 bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, std::vector<PendingLink>& created) {
   const std::vector<std::vector<BFloat16>>& importance = graph_importance_;
   const auto shared = shared_representation_error(candidates);
@@ -157,37 +369,18 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
   interruptible_parallel_for(candidates.size(), options_.checkpoint, [&](std::size_t k) {
     const PendingLink& p = candidates[k];
     const InteractionGraph& g = graphs_[p.graph];
-    const int s = g.shooter_surface();
     if (static_cast<std::size_t>(p.graph) >= importance.size() ||
         static_cast<std::size_t>(p.vertex) >= importance[p.graph].size()) {
       return;
     }
     const GraphLink& link = g.links(p.vertex)[p.slot];
-    if (!splittable(s, link.shooter, g.receiver_surface())) return;
-    const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
-    double largest = 0.0;
-    for (int l = 0; l < 3; ++l) {
-      Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
-      for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
-      largest = std::max(largest, luminance(transfer));
-    }
+    if (!splittable(g.shooter_surface(), link.shooter, g.receiver_surface())) return;
+    const LinkJudgement j = judge_link(p.graph, p.vertex, link);
     // Or the element's own representation is off, over every node sharing it.
     const double shared_error = shared.at(element_key(p.graph, link.shooter));
-    const auto own_error_too_large = [&] {
-      if (!(options_.eps_vertex > 0)) return false;
-      // A node made in this refinement pass has no value yet: the floor
-      // stands for it until the next push.
-      const std::vector<Rgb>& values = surfaces_[g.receiver_surface()].radiance;
-      const VertexId v = g.vertex(p.vertex);
-      const double own = static_cast<std::size_t>(v) < values.size() ? luminance(values[v]) : 0.0;
-      const double floor = kRelativeErrorFloor * adaptation_;
-      return representation_error(s, link, rho) > options_.eps_vertex * std::max(own, floor);
-    };
-    const bool seen = largest / adaptation_ * importance[p.graph][p.vertex] > options_.eps_link ||
-                      shared_error / adaptation_ > options_.eps_link;
-    if (seen) {
+    if (j.seen > options_.eps_link || shared_error / adaptation_ > options_.eps_link) {
       verdict[k] = kSeen;
-    } else if (own_error_too_large()) {
+    } else if (options_.eps_vertex > 0 && j.own_error > j.own_allowed) {
       verdict[k] = kOwnError;
     }
   });

@@ -44,6 +44,7 @@ std::vector<RootCluster> build_root_clusters(const MeshedScene& model, int s, co
       return ka < kb || (ka == kb && a < b);
     });
     RootCluster left, right;
+    left.parent = right.parent = static_cast<std::int32_t>(c);
     left.roots.assign(roots.begin(), middle);
     right.roots.assign(middle, roots.end());
     clusters[c].first_child = static_cast<std::int32_t>(clusters.size());

@@ -16,6 +16,7 @@ namespace lhr {
 struct RootCluster {
   std::vector<NodeId> roots;
   std::int32_t first_child = -1;  // two consecutive child clusters, or -1: children are the roots
+  std::int32_t parent = -1;       // -1 for the whole surface
   double area = 0.0;
   double exposed_area = 0.0;  // Σ area × exposed fraction of its roots
   Vec3 centroid{0, 0, 0};

@@ -88,10 +88,17 @@ bool may_exchange_light(const Surface& a, const Surface& b, double eps) {
 SurfaceClusters::SurfaceClusters(const MeshedScene& model, int surface)
     : root_exposure(lhr::root_exposure(model, surface)),
       tree(build_root_clusters(model, surface, root_exposure)),
-      radiance(tree.size(), model.material(surface).emission) {}
+      radiance(tree.size(), model.material(surface).emission) {
+  leaf_of_root.assign(root_exposure.size(), -1);
+  for (std::size_t c = 0; c < tree.size(); ++c) {
+    if (tree[c].first_child >= 0) continue;
+    for (NodeId root : tree[c].roots) leaf_of_root[root] = static_cast<std::int32_t>(c);
+  }
+}
 
 std::size_t SurfaceClusters::bytes() const {
   std::size_t total = root_exposure.capacity() * sizeof(double) + tree.capacity() * sizeof(RootCluster) +
+                      leaf_of_root.capacity() * sizeof(std::int32_t) +
                       (radiance.capacity() + spread.capacity()) * sizeof(Rgb);
   for (const RootCluster& c : tree) total += c.roots.capacity() * sizeof(NodeId);
   return total;

@@ -120,6 +120,7 @@ bool may_exchange_light(const Surface& a, const Surface& b, double eps);
 struct SurfaceClusters {
   std::vector<double> root_exposure;  // per root: its fraction open to the scene
   std::vector<RootCluster> tree;      // [0] = the whole surface
+  std::vector<std::int32_t> leaf_of_root;  // per root: the cluster that opens onto it
   std::vector<Rgb> radiance;          // per cluster
   std::vector<Rgb> spread;            // per cluster
 

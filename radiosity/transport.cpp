@@ -183,6 +183,30 @@ struct TriangleTransportScratch {
 
 }  // namespace
 
+TransportCoefficients merge_child_coefficients(const std::array<TransportCoefficients, 4>& children) {
+  // Parent corner L's hat function at corner l of child c: 1 at the parent's
+  // own corner, ½ at an edge midpoint (child 3's corner k is the midpoint
+  // opposite the parent's corner k).
+  constexpr double kHat[4][3][3] = {
+      {{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},
+      {{0.5, 0.5, 0}, {0, 1, 0}, {0, 0.5, 0.5}},
+      {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
+      {{0, 0.5, 0.5}, {0.5, 0, 0.5}, {0.5, 0.5, 0}},
+  };
+  std::array<double, 3> f{0.0, 0.0, 0.0};
+  double unoccluded = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    for (int l = 0; l < 3; ++l) {
+      for (int corner = 0; corner < 3; ++corner) f[corner] += kHat[c][l][corner] * children[c].f[l];
+    }
+    unoccluded += children[c].unoccluded;
+  }
+  TransportCoefficients out;
+  for (int l = 0; l < 3; ++l) out.f[l] = static_cast<float>(f[l]);
+  out.unoccluded = static_cast<float>(unoccluded);
+  return out;
+}
+
 TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
                                          const RayCaster& rays, const TransportSampling& sampling,
                                          std::uint64_t& ray_count) {

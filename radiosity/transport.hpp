@@ -37,6 +37,13 @@ struct TransportSampling {
   std::uint64_t key = 0;  // sample pattern, from the link's ids (deterministic)
 };
 
+// A linear-basis shooter triangle's coefficients from its four children's,
+// in mesh/hierarchy.hpp's child order: each of the parent's hat functions is
+// linear over each child, so F_P^L = Σ_c Σ_l N_P^L(corner l of child c) F_c^l
+// holds exactly, occlusion included, with no new rays (docs/design.md,
+// "Coarsening links").
+TransportCoefficients merge_child_coefficients(const std::array<TransportCoefficients, 4>& children);
+
 // Linear-basis shooter triangle (corners counter-clockwise seen from its front).
 TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const std::array<Vec3, 3>& shooter,
                                          const RayCaster& rays, const TransportSampling& sampling,

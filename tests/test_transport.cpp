@@ -163,6 +163,78 @@ TEST(TriangleTransport, AtTheFootOfAWallTheSplitIsTheWallsValueThere) {
   }
 }
 
+// ∫_T N^l(y) V(x, y) cosθx cosθy / (π r²) dy for each corner l of triangle T
+// on the floor (normal +y), x of unit normal n: a midpoint rule on T cut
+// into 4^depth similar pieces, leaving out the points the block hides.
+std::array<double, 3> hat_integrals(const Vec3& x, const Vec3& n, const std::array<Vec3, 3>& t, int depth) {
+  std::array<double, 3> out{0.0, 0.0, 0.0};
+  const int cuts = 1 << depth;
+  const double piece_area = 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm() / (cuts * cuts);
+  const auto add = [&](double a, double b) {  // barycentrics of corners 1 and 2 at a piece's centroid
+    const Vec3 y = (1.0 - a - b) * t[0] + a * t[1] + b * t[2];
+    const Vec3 d = y - x;
+    const double r2 = d.sqrnorm(), r = std::sqrt(r2);
+    const double cos_x = OpenMesh::dot(n, d) / r, cos_y = -d[1] / r;
+    if (cos_x <= 0 || cos_y <= 0) return;
+    const auto blocked = hit_block(x, d / r);
+    if (blocked && *blocked < r) return;
+    const double k = cos_x * cos_y / (M_PI * r2) * piece_area;
+    out[0] += (1.0 - a - b) * k;
+    out[1] += a * k;
+    out[2] += b * k;
+  };
+  for (int i = 0; i < cuts; ++i) {
+    for (int j = 0; i + j < cuts; ++j) {
+      add((i + 1.0 / 3.0) / cuts, (j + 1.0 / 3.0) / cuts);  // upright piece
+      if (i + j + 1 < cuts) add((i + 2.0 / 3.0) / cuts, (j + 2.0 / 3.0) / cuts);  // inverted piece
+    }
+  }
+  return out;
+}
+
+TEST(TriangleTransport, FourChildrenMergedGiveTheParentsIntegralOfEachHat) {
+  // A floor triangle that the block half hides from a point above and
+  // beside it. The parent's hat functions are linear on each child, so its
+  // three coefficients are fixed sums of the children's twelve: merging
+  // them (what coarsening a link does) must give each ∫ N^L V K over the
+  // parent, and Σ_L exactly the parent's unoccluded form factor.
+  const std::array<Vec3, 3> parent{Vec3(0.5, 0, 0.5), Vec3(0.5, 0, 3.5), Vec3(3.5, 0, 3.5)};
+  const TriMesh box = block();
+  const RayCaster rays({&box});
+  // mesh/hierarchy.hpp's children: 0 = (v0,m01,m20), 1 = (m01,v1,m12),
+  // 2 = (m20,m12,v2), 3 = (m12,m20,m01).
+  const Vec3 m01 = 0.5 * (parent[0] + parent[1]), m12 = 0.5 * (parent[1] + parent[2]),
+             m20 = 0.5 * (parent[2] + parent[0]);
+  const std::array<std::array<Vec3, 3>, 4> children{{{parent[0], m01, m20},
+                                                     {m01, parent[1], m12},
+                                                     {m20, m12, parent[2]},
+                                                     {m12, m20, m01}}};
+  const Vec3 n = Vec3(0.3, -1.0, 0.2).normalized();
+  for (const Vec3& at : {Vec3(3.2, 1.6, 0.9), Vec3(0.2, 2.5, 3.8)}) {
+    ReceiverPoint x;
+    x.x = at;
+    x.normal = n;
+    TransportSampling sampling;
+    sampling.k = 16;
+    std::uint64_t ray_count = 0;
+    std::array<TransportCoefficients, 4> parts;
+    for (int c = 0; c < 4; ++c) {
+      sampling.key = 100 + static_cast<std::uint64_t>(c);
+      parts[c] = triangle_transport(x, children[c], rays, sampling, ray_count);
+    }
+    const TransportCoefficients merged = merge_child_coefficients(parts);
+    const std::array<double, 3> truth = hat_integrals(at, n, parent, 9);
+    const double total = truth[0] + truth[1] + truth[2];
+    ASSERT_GT(total, 0.0);
+    EXPECT_NEAR(merged.unoccluded, point_triangle_form_factor(at, n, parent), 1e-5 * merged.unoccluded);
+    double hidden = 1.0 - total / merged.unoccluded;
+    EXPECT_GT(hidden, 0.05) << "the block must hide part of the triangle for the test to mean anything";
+    for (int l = 0; l < 3; ++l) {
+      EXPECT_NEAR(merged.f[l], truth[l], 0.02 * total) << "corner " << l << " seen from " << at;
+    }
+  }
+}
+
 // A floor whose triangles hold different values: bright ones in the middle,
 // dark ones by the walls, as under a lamp. What a receiver gets from it as
 // one constant-basis shooter must be the floor's radiance weighted by that

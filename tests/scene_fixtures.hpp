@@ -236,6 +236,22 @@ inline LinearOptions quick_linear_options(const MeshedScene& model, double eps_l
 
 inline constexpr double kPi = 3.14159265358979323846;
 
+// Lambert's closed form for the form factor from a point x with unit normal
+// n to a convex polygon wholly in front of it: the truth the light-over-a-
+// receiver tests compare with, written here apart from radiosity/form_factor.
+inline double lambert_form_factor(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& polygon) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3 a = (polygon[i] - x).normalized();
+    const Vec3 b = (polygon[(i + 1) % polygon.size()] - x).normalized();
+    const double angle = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+    const Vec3 c = a.cross(b);
+    const double norm = c.norm();
+    if (norm > 0) sum += angle * n.dot(c / norm);
+  }
+  return std::abs(sum) / (2.0 * kPi);
+}
+
 inline double deg(double rad) { return rad * 180.0 / kPi; }
 
 inline Vec3 vector_area(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& polygons) {

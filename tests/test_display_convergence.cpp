@@ -31,21 +31,6 @@ namespace {
 constexpr double kRho = 0.7;
 constexpr double kLe = 100.0;
 
-// Lambert's closed form for a point with normal n and a convex polygon wholly
-// in front of it, written here apart from radiosity/form_factor.
-double lambert_form_factor(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& polygon) {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec3 a = (polygon[i] - x).normalized();
-    const Vec3 b = (polygon[(i + 1) % polygon.size()] - x).normalized();
-    const double angle = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
-    const Vec3 c = a.cross(b);
-    const double norm = c.norm();
-    if (norm > 0) sum += angle * n.dot(c / norm);
-  }
-  return std::abs(sum) / (2.0 * test::kPi);
-}
-
 struct Light {
   double side, height;
   std::array<Vec3, 4> polygon() const {
@@ -105,7 +90,7 @@ Doubling double_the_resolution(const Light& light, double eps_pixel, int max_ite
   const TriMesh& mesh = surfaces[receiver].mesh.mesh;
   const std::vector<Rgb>& radiance = surfaces[receiver].radiance;
   const Vec3 up(0, 0, 1);
-  const auto exact = [&](const Vec3& p) { return kRho * kLe * lambert_form_factor(p, up, light.polygon()); };
+  const auto exact = [&](const Vec3& p) { return kRho * kLe * test::lambert_form_factor(p, up, light.polygon()); };
 
   Doubling out;
   out.leaves = mesh.n_faces();

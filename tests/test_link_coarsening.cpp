@@ -2,7 +2,8 @@
 // all the children of a shooter element merge back into one link when the
 // shooter oracle would keep it. The truth is the closed form of a light over
 // a receiver with nothing between them: the receiver's radiance is ρ Le F,
-// F from Lambert's formula, written here apart from radiosity/form_factor.
+// F from Lambert's formula (test::lambert_form_factor, apart from
+// radiosity/form_factor).
 
 #include <gtest/gtest.h>
 
@@ -21,19 +22,6 @@ namespace {
 
 constexpr double kRho = 0.7;
 constexpr double kLe = 100.0;
-
-double lambert_form_factor(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& polygon) {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec3 a = (polygon[i] - x).normalized();
-    const Vec3 b = (polygon[(i + 1) % polygon.size()] - x).normalized();
-    const double angle = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
-    const Vec3 c = a.cross(b);
-    const double norm = c.norm();
-    if (norm > 0) sum += angle * n.dot(c / norm);
-  }
-  return std::abs(sum) / (2.0 * test::kPi);
-}
 
 struct Outcome {
   std::size_t links = 0;
@@ -80,13 +68,13 @@ Outcome solve(bool coarsen) {
   for (const InteractionGraph& g : solver.graphs()) {
     if (g.receiver_surface() != receiver) continue;
     for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
-      const double f = lambert_form_factor(h.point(g.vertex(i)), up, light);
+      const double f = test::lambert_form_factor(h.point(g.vertex(i)), up, light);
       out.largest_cut_error = std::max(out.largest_cut_error, std::abs(g.unoccluded(i) - f) / f);
     }
   }
   const std::vector<Rgb>& radiance = solver.vertex_radiance(receiver);
   for (std::size_t v = 0; v < radiance.size(); ++v) {
-    const double truth = kRho * kLe * lambert_form_factor(h.point(static_cast<VertexId>(v)), up, light);
+    const double truth = kRho * kLe * test::lambert_form_factor(h.point(static_cast<VertexId>(v)), up, light);
     const double error = std::abs(luminance(radiance[v]) - truth) / truth;
     out.mean_error += error / static_cast<double>(radiance.size());
     out.largest_error = std::max(out.largest_error, error);

@@ -5,10 +5,12 @@
 // every graph, and the importance per graph vertex, which only the shooter
 // oracle's threshold reads.
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace lhr {
@@ -68,6 +70,45 @@ class BFloat16 {
     if (std::isnan(value)) return 0x7FC0;
     const std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
     return static_cast<std::uint16_t>((bits + 0x7FFFu + ((bits >> 16) & 1u)) >> 16);
+  }
+  std::uint16_t bits_ = 0;
+};
+
+// A non-negative value below 2, such as a form factor, in 16 bits: 5 bits of
+// exponent for [2^-31, 2) and 11 significant bits after the leading one,
+// rounded to nearest even, so within 2^-12 of the value. At 2^-31 and below
+// it is 0, from 2 on its largest value (1.9995);
+// NaN ("not computed yet") is kept. A float's 23 bits are more than the
+// unoccluded caches need: what they hold multiplies a ratio interpolated
+// between two vertices, far rougher than 2^-12 (docs/design.md, "Graph
+// storage").
+class UnitFloat16 {
+ public:
+  static constexpr std::uint16_t kNaN = 0xFFFF;
+  static constexpr std::uint16_t kLargest = 0xFFFE;
+
+  UnitFloat16() = default;
+  explicit UnitFloat16(float value) : bits_(round(value)) {}
+  explicit UnitFloat16(double value) : UnitFloat16(static_cast<float>(value)) {}
+  operator float() const {
+    if (bits_ == 0) return 0.0f;
+    if (bits_ == kNaN) return std::numeric_limits<float>::quiet_NaN();
+    return std::bit_cast<float>((static_cast<std::uint32_t>(bits_) + kBias) << kDropped);
+  }
+  bool is_nan() const { return bits_ == kNaN; }
+
+ private:
+  static constexpr int kDropped = 12;  // of float's 23 significant bits
+  // Code 1 is float's smallest value above 2^-31 (biased exponent 96).
+  static constexpr std::uint32_t kBias = (127u - 31u) << (23 - kDropped);
+  static std::uint16_t round(float value) {
+    if (std::isnan(value)) return kNaN;
+    if (!(value > 0.0f)) return 0;
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
+    const std::uint32_t kept =
+        (bits + ((1u << (kDropped - 1)) - 1u) + ((bits >> kDropped) & 1u)) >> kDropped;
+    if (kept <= kBias) return 0;
+    return static_cast<std::uint16_t>(std::min<std::uint32_t>(kept - kBias, kLargest));
   }
   std::uint16_t bits_ = 0;
 };

@@ -53,7 +53,7 @@ void InteractionGraph::set_state(NodeId n, NodeState s) {
 
 int InteractionGraph::add_vertex(VertexId v) {
   const int i = static_cast<int>(num_vertices());
-  cut_->vertices.push_back(v);
+  cut_->vertices.push_back(static_cast<std::uint32_t>(v));
   const std::size_t k = static_cast<std::size_t>(v) - start_->index.size();
   cut_->index.grow(k + 1, 0);
   cut_->index.set(k, static_cast<std::uint32_t>(i) + 1);
@@ -214,7 +214,7 @@ std::size_t InteractionGraph::link_bytes() const {
 std::size_t InteractionGraph::bytes() const {
   std::size_t bytes = sizeof(*this) + first_.bytes();
   if (cut_) {
-    bytes += sizeof(Cut) + cut_->state.capacity() + cut_->vertices.capacity() * sizeof(VertexId) +
+    bytes += sizeof(Cut) + cut_->state.capacity() + cut_->vertices.bytes() +
              cut_->index.bytes();
   }
   if (growing_) {

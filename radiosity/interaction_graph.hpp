@@ -74,7 +74,9 @@ class InteractionGraph {
   NodeId leaf_containing(NodeId n, const SurfaceHierarchy& receiver) const;
 
   std::size_t num_vertices() const { return first_.size() - 1; }
-  VertexId vertex(int i) const { return i < num_start_ ? start_->vertices[i] : cut_->vertices[i - num_start_]; }
+  VertexId vertex(int i) const {
+    return i < num_start_ ? start_->vertices[i] : static_cast<VertexId>(cut_->vertices[i - num_start_]);
+  }
   // Index of R's vertex v in this graph, or -1.
   int index_of(VertexId v) const {
     const auto k = static_cast<std::size_t>(v);
@@ -154,7 +156,7 @@ class InteractionGraph {
     // (4 in a graph past 65 535 vertices) per vertex R made since the start
     // up to the last this graph holds, since lookups are on every oracle's
     // path and direct.
-    std::vector<VertexId> vertices;
+    CompactUints vertices;  // R's vertex ids, 16 bits each below 65 536
     CompactUints index;
   };
   std::unique_ptr<Cut> cut_;

@@ -379,7 +379,7 @@ double LinearSolver::push() {
       const InteractionGraph& g = graphs_[gi];
       UnoccludedCache& cache = unoccluded_at_[gi];
       cache.update(g, nv);
-      std::vector<float>& unoccluded = cache.values();  // at the vertices not in g, in order
+      std::vector<UnitFloat16>& unoccluded = cache.values();  // at the vertices not in g, in order
       std::fill(exact.begin(), exact.end(), 0);
       tbb::parallel_for(0, static_cast<int>(g.num_vertices()), [&](int i) {
         const VertexId v = g.vertex(i);
@@ -392,12 +392,12 @@ double LinearSolver::push() {
       missing.clear();
       for (std::size_t v = 0, k = 0; v < nv; ++v) {
         if (exact[v]) continue;
-        if (std::isnan(unoccluded[k])) missing.emplace_back(k, static_cast<VertexId>(v));
+        if (unoccluded[k].is_nan()) missing.emplace_back(k, static_cast<VertexId>(v));
         ++k;
       }
       tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t i) {
         const auto& [k, v] = missing[i];
-        unoccluded[k] = static_cast<float>(unoccluded_form_factor(r, v, g.shooter_surface()));
+        unoccluded[k] = UnitFloat16(unoccluded_form_factor(r, v, g.shooter_surface()));
       });
       for (std::size_t v = 0, k = 0; v < nv; ++v) {
         if (!exact[v]) {
@@ -457,6 +457,7 @@ bool LinearSolver::refine() {
   compute_coefficients(pending);
   // The coefficients of the new links count as their own phase.
   stats_.seconds_oracles -= stats_.seconds_coefficients - coefficient_seconds;
+  std::vector<std::vector<BFloat16>>().swap(graph_importance_);
   return changed;
 }
 
@@ -509,10 +510,11 @@ void LinearSolver::collect_stats() {
   for (const UnoccludedCache& u : unoccluded_at_) stats_.bytes_graphs += u.bytes() - sizeof(u);
   for (const std::vector<float>& u : facet_spread_at_) stats_.bytes_graphs += u.capacity() * sizeof(float);
   // The importance per graph vertex is a table of the graphs' as much as
-  // the form factor caches are, kept from one iteration to the next, and
-  // the memory budget must see it (2 bytes a graph vertex).
+  // the form factor caches are; it is held while refine() runs (2 bytes a
+  // vertex of every graph judged), and the budget planned then must see it.
   stats_.bytes_graphs += graph_importance_.capacity() * sizeof(graph_importance_[0]);
   for (const std::vector<BFloat16>& w : graph_importance_) stats_.bytes_graphs += w.capacity() * sizeof(BFloat16);
+  stats_.bytes_graphs += importance_vertices_.capacity() * sizeof(importance_vertices_[0]);
   stats_.bytes_graphs += (oracle_watch_.capacity() + shooter_watch_.capacity()) * sizeof(OracleWatch);
   stats_.nodes = stats_.leaves = 0;
   stats_.bytes_geometry = stats_.bytes_hierarchy = stats_.bytes_values = 0;

@@ -298,8 +298,18 @@ class LinearSolver {
   // graph's leaves (what a change of S's contribution there is worth).
   // Summed in double and kept in 16 bits (BFloat16, within 0.4 %): it only
   // weighs the shooter oracle's threshold, and a double a graph vertex was
-  // 11 MB of the four rooms' graph tables, a float 5.4 MB.
+  // 11 MB of the four rooms' graph tables, a float 5.4 MB. Held only while
+  // refine() runs, for the graphs the shooter oracle judges then: kept
+  // between iterations for every graph it was a quarter of the two rooms'
+  // graph tables (BENCHMARKS.md, "Graph storage under 30 %").
   std::vector<std::vector<BFloat16>> graph_importance_;
+  // Graph gi's vertex importance from its leaves as they are now and its
+  // receiver's node importance.
+  void vertex_importance(int gi, std::vector<BFloat16>& out) const;
+  // Per graph, its vertices when the importance was last worked out: the
+  // importance carried back is theirs (a vertex made since has no links
+  // judged by it yet), as when every graph's table was kept.
+  std::vector<std::uint32_t> importance_vertices_;
   // Per graph, at the receiver vertices that are not graph vertices, filled
   // when push() first needs it: the unoccluded form factor from the graph's
   // shooter (at a graph vertex the links sum to it).

@@ -133,13 +133,19 @@ void LinearSolver::carry_importance_back() {
     surfaces_[s].deposit.assign(model_.hierarchy(s).num_nodes(), 0.0);
     cluster_deposit[s].assign(surfaces_[s].clusters.tree.size(), 0.0);
   }
-  for (std::size_t gi = 0; gi < graph_importance_.size() && gi < graphs_.size(); ++gi) {
+  // Each graph's vertex importance from the last iteration's node importance,
+  // made here per graph rather than kept between iterations (docs/design.md,
+  // "Graph storage"), and carried from the vertices the graph had then.
+  std::vector<BFloat16> importance;
+  for (std::size_t gi = 0; gi < graphs_.size() && gi < importance_vertices_.size(); ++gi) {
     const InteractionGraph& g = graphs_[gi];
     const int s = g.shooter_surface();
     SurfaceState& shooter = surfaces_[s];
     const double rho = luminance(model_.material(g.receiver_surface()).reflectance);
-    for (std::size_t i = 0; i < graph_importance_[gi].size(); ++i) {
-      const double worth = rho * graph_importance_[gi][i];
+    vertex_importance(static_cast<int>(gi), importance);
+    const std::size_t carried = std::min<std::size_t>(importance_vertices_[gi], importance.size());
+    for (std::size_t i = 0; i < carried; ++i) {
+      const double worth = rho * importance[i];
       if (!(worth > 0)) continue;
       for (const GraphLink& l : g.links(static_cast<int>(i))) {
         const double amount = worth * l.coefficients.visible();
@@ -186,19 +192,33 @@ void LinearSolver::carry_importance_back() {
     }
     st.drift = std::max(st.drift, drift);
   }
-  graph_importance_.assign(graphs_.size(), {});
-  std::vector<double> sum;
+  importance_vertices_.resize(graphs_.size());
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
-    const InteractionGraph& g = graphs_[gi];
-    const int r = g.receiver_surface();
-    const SurfaceHierarchy& h = model_.hierarchy(r);
-    sum.assign(g.num_vertices(), 0.0);
-    for (NodeId leaf : g.leaves(h)) {
-      for (VertexId v : h.corners(leaf)) sum[g.index_of(v)] += node_importance(r, leaf) / 3.0;
-    }
-    graph_importance_[gi].resize(sum.size());
-    for (std::size_t i = 0; i < sum.size(); ++i) graph_importance_[gi][i] = BFloat16(sum[i]);
+    importance_vertices_[gi] = static_cast<std::uint32_t>(graphs_[gi].num_vertices());
   }
+}
+
+void LinearSolver::vertex_importance(int gi, std::vector<BFloat16>& out) const {
+  const InteractionGraph& g = graphs_[gi];
+  const int r = g.receiver_surface();
+  const SurfaceHierarchy& h = model_.hierarchy(r);
+  const std::size_t known = surfaces_[r].importance.size();
+  thread_local std::vector<double> sum;
+  sum.assign(g.num_vertices(), 0.0);
+  for (NodeId leaf : g.leaves(h)) {
+    // A leaf made since the node importance was last worked out has its
+    // area's share of its nearest ancestor's, a quarter per level.
+    NodeId n = leaf;
+    double share = 1.0;
+    while (static_cast<std::size_t>(n) >= known && h.parent(n) != kNoNode) {
+      n = h.parent(n);
+      share *= 0.25;
+    }
+    const double importance = share * node_importance(r, n) / 3.0;
+    for (VertexId v : h.corners(leaf)) sum[g.index_of(v)] += importance;
+  }
+  out.resize(sum.size());
+  for (std::size_t i = 0; i < sum.size(); ++i) out[i] = BFloat16(sum[i]);
 }
 
 }  // namespace lhr

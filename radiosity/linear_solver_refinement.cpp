@@ -276,6 +276,11 @@ std::vector<std::uint8_t> LinearSolver::coarsen_due_graphs() {
     due[gi] = shooter_watch_[gi].due(graph_drift(g), nodes, options_.oracle_drift) ? 1 : 0;
     stats_.shooter_judgements += due[gi];
   }
+  // The judged graphs' vertex importance, for this refinement only.
+  graph_importance_.assign(graphs_.size(), {});
+  interruptible_parallel_for(graphs_.size(), options_.checkpoint, [&](std::size_t gi) {
+    if (due[gi]) vertex_importance(static_cast<int>(gi), graph_importance_[gi]);
+  });
   // Coarsening reads only what the last push and importance pass left and
   // writes only its own graph: the graphs are coarsened in parallel.
   std::vector<Coarsening> coarsened(graphs_.size());

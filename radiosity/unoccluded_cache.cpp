@@ -18,19 +18,19 @@ void UnoccludedCache::update(const InteractionGraph& g, std::size_t receiver_ver
       continue;
     }
     if (i >= 0 && i < old_graph) continue;  // a graph vertex then and now
-    const float value = values_[read++];
+    const UnitFloat16 value = values_[read++];
     if (i < 0) values_[write++] = value;
   }
   // Sized exactly: every graph keeps one, and doubling would leave up to
   // half of each unused.
   values_.resize(write);
   if (write + added > values_.capacity()) {
-    std::vector<float> grown;
+    std::vector<UnitFloat16> grown;
     grown.reserve(write + added);
     grown.assign(values_.begin(), values_.end());
     values_ = std::move(grown);
   }
-  values_.resize(write + added, std::numeric_limits<float>::quiet_NaN());
+  values_.resize(write + added, UnitFloat16(std::numeric_limits<float>::quiet_NaN()));
   if (values_.capacity() > values_.size()) values_.shrink_to_fit();
   receiver_vertices_ = static_cast<std::uint32_t>(receiver_vertices);
   graph_vertices_ = static_cast<std::uint32_t>(g.num_vertices());

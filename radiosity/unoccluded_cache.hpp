@@ -5,12 +5,14 @@
 // vertices. At a graph vertex it is the sum of the links' unoccluded form
 // factors, read from them where needed, so it is not kept; elsewhere it costs
 // a form factor from all of S, so it is computed once and kept, in vertex
-// order, one float each (BENCHMARKS.md, "Tables sized by the graph's own cut").
+// order, 16 bits each (UnitFloat16; BENCHMARKS.md, "Tables sized by the
+// graph's own cut", "Graph storage under 30 %").
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "radiosity/compact_tables.hpp"
 #include "radiosity/interaction_graph.hpp"
 
 namespace lhr {
@@ -24,11 +26,11 @@ class UnoccludedCache {
   void update(const InteractionGraph& g, std::size_t receiver_vertices);
   // Value k belongs to the k-th receiver vertex, in id order, that is not a
   // graph vertex.
-  std::vector<float>& values() { return values_; }
-  std::size_t bytes() const { return sizeof(*this) + values_.capacity() * sizeof(float); }
+  std::vector<UnitFloat16>& values() { return values_; }
+  std::size_t bytes() const { return sizeof(*this) + values_.capacity() * sizeof(UnitFloat16); }
 
  private:
-  std::vector<float> values_;
+  std::vector<UnitFloat16> values_;
   std::uint32_t receiver_vertices_ = 0;  // as of the last update
   std::uint32_t graph_vertices_ = 0;
 };

@@ -414,17 +414,27 @@ namespace lhr {
 namespace {
 
 // bytes.graphs counts, beside each graph's own tables, the receivers'
-// shared starts, the unoccluded form factors kept at the receiver vertices
-// that are not graph vertices (a float each) and the importance the solver
-// keeps per graph vertex from one iteration to the next (a float each): the
-// memory budget must see all of it (BENCHMARKS.md, "Tables sized by the
-// graph's own cut").
-TEST(Budgets, GraphBytesCountTheCachesAndThePerGraphVertexImportance) {
+// shared starts and the unoccluded form factors kept at the receiver
+// vertices that are not graph vertices (16 bits each). The importance per
+// graph vertex (16 bits each) is held only while a refinement runs, for the
+// graphs the shooter oracle judges; the memory budget, planned then, must
+// see it, and once the solve is done it is gone (BENCHMARKS.md, "Graph
+// storage under 30 %").
+TEST(Budgets, GraphBytesCountTheCachesAndTheImportanceWhileRefining) {
   const Scene scene = test::furnace_cube(0.5, 1.0);
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
   MeshedScene model(scene, meshing);
-  LinearSolver solver(model, LinearOptions{});
+  LinearOptions options;
+  options.max_bytes = std::size_t{1} << 40;  // so that the plan counts the bytes
+  const LinearSolver* watched = nullptr;
+  std::size_t largest_while_refining = 0;
+  // Called inside refine(), after the plan: the stats then are the plan's.
+  options.checkpoint = [&] {
+    if (watched != nullptr) largest_while_refining = std::max(largest_while_refining, watched->stats().bytes_graphs);
+  };
+  LinearSolver solver(model, options);
+  watched = &solver;
   solver.solve();
   std::size_t counted = 0, vertices = 0;
   std::set<const InteractionGraph::Start*> starts;
@@ -432,15 +442,19 @@ TEST(Budgets, GraphBytesCountTheCachesAndThePerGraphVertexImportance) {
     counted += g.bytes();
     if (starts.insert(&g.start()).second) counted += g.start().bytes();
     const std::size_t receiver_vertices = model.hierarchy(g.receiver_surface()).num_vertices();
-    counted += (receiver_vertices - g.num_vertices()) * sizeof(float);
+    counted += (receiver_vertices - g.num_vertices()) * sizeof(UnitFloat16);
     vertices += g.num_vertices();
   }
   const LinearStats& stats = solver.stats();
   ASSERT_EQ(stats.graph_vertices, vertices);
-  const std::size_t importance = vertices * sizeof(BFloat16);
-  EXPECT_GE(stats.bytes_graphs, counted + importance);
+  EXPECT_GE(stats.bytes_graphs, counted);
   // The rest: a few words per graph (the caches' and tables' headers).
-  EXPECT_LE(stats.bytes_graphs, counted + importance + solver.graphs().size() * 16 * sizeof(void*));
+  const std::size_t headers = solver.graphs().size() * 16 * sizeof(void*);
+  EXPECT_LE(stats.bytes_graphs, counted + headers);
+  // While refining, every graph was judged at least once with its
+  // importance held: at the first refinement all of them are.
+  ASSERT_GT(stats.iterations, 2);
+  EXPECT_GE(largest_while_refining, stats.bytes_graphs + vertices / 2 * sizeof(BFloat16));
 }
 
 }  // namespace

@@ -102,6 +102,38 @@ TEST(InteractionGraphTables, BFloat16KeepsAValueWithinTwoToTheMinusEight) {
   EXPECT_TRUE(std::isnan(static_cast<float>(BFloat16(std::nanf("")))));
 }
 
+// UnitFloat16 keeps a form factor in [2^-31, 2) within 2^-12 of itself,
+// order kept; zero below, its largest value from 2 on, NaN as NaN.
+TEST(InteractionGraphTables, UnitFloat16KeepsAFormFactorWithinTwoToTheMinusTwelve) {
+  EXPECT_EQ(static_cast<float>(UnitFloat16(0.0f)), 0.0f);
+  EXPECT_EQ(static_cast<float>(UnitFloat16(-0.5f)), 0.0f);
+  EXPECT_EQ(static_cast<float>(UnitFloat16(1.0f)), 1.0f);
+  EXPECT_EQ(static_cast<float>(UnitFloat16(0.5f)), 0.5f);
+  EXPECT_EQ(static_cast<float>(UnitFloat16(std::ldexp(1.0f, -30))), std::ldexp(1.0f, -30));
+  EXPECT_EQ(static_cast<float>(UnitFloat16(std::ldexp(1.0f, -32))), 0.0f);
+  EXPECT_NEAR(static_cast<float>(UnitFloat16(5.0f)), 2.0f, 1e-3);
+  EXPECT_LT(static_cast<float>(UnitFloat16(5.0f)), 2.0f);
+  EXPECT_TRUE(UnitFloat16(std::nanf("")).is_nan());
+  EXPECT_TRUE(std::isnan(static_cast<float>(UnitFloat16(std::nanf("")))));
+  EXPECT_FALSE(UnitFloat16(1.9f).is_nan());
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> exponent(-30.0, 0.3);
+  std::vector<double> values;
+  for (int i = 0; i < 20000; ++i) values.push_back(std::pow(2.0, exponent(random)));
+  std::sort(values.begin(), values.end());
+  double previous_in = 0.0;
+  float previous_out = 0.0f;
+  for (const double v : values) {
+    const float stored = UnitFloat16(v);
+    ASSERT_LE(std::abs(stored - v), std::ldexp(v, -12) * (1.0 + 1e-6)) << v;
+    if (v > previous_in) {
+      ASSERT_GE(stored, previous_out) << v;
+    }
+    previous_in = v;
+    previous_out = stored;
+  }
+}
+
 TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {
   SurfaceHierarchy receiver = test::grid_hierarchy(21);  // 441 vertices, 800 roots
   // Other graphs have refined the receiver already.
@@ -234,13 +266,16 @@ TEST(InteractionGraphTables, TheFirstSplitKeepsTheRootsOrderAndPackingLeavesNoSp
   for (const auto& nv : created) g.set_links(nv.index, std::vector<GraphLink>{{kWholeSurface, {}}});
   g.pack_links();
   // Packed: no list of leaves, per node two bits (R's nodes up to the last
-  // child), per new vertex its id and index entry (R's vertices from the
-  // start's on), per vertex the links' offset; once, the headers of those
-  // three tables and a leaf count, held only by a graph that splits.
+  // child), per new vertex its id (16 bits in a receiver of fewer than
+  // 65 536 vertices) and index entry (R's vertices from the start's on), per
+  // vertex the links' offset; once, the headers of those three tables and a
+  // leaf count, held only by a graph that splits.
   const std::size_t vertices = g.num_vertices();
   const std::size_t extra = vertices - 25;
-  const std::size_t split_header = 3 * sizeof(std::vector<std::int32_t>) + 2 * sizeof(std::uint64_t);
-  const std::size_t bound = unsplit_bound(vertices) + split_header + (receiver.num_nodes() + 3) / 4 + extra * sizeof(VertexId) +
+  const std::size_t split_header =
+      sizeof(std::vector<std::uint8_t>) + 2 * sizeof(CompactUints) + 2 * sizeof(std::uint64_t);
+  const std::size_t bound = unsplit_bound(vertices) + split_header + (receiver.num_nodes() + 3) / 4 +
+                            extra * sizeof(std::uint16_t) +
                             (receiver.num_vertices() - 25) * sizeof(std::uint16_t);
   EXPECT_LE(g.bytes(), bound);
   EXPECT_GT(g.bytes(), unsplit);
@@ -273,7 +308,7 @@ TEST(InteractionGraphTables, AGraphPastSixteenBitsOfLinksKeepsEveryVertexsLinks)
 }
 
 // The solver's unoccluded form factor cache (radiosity/unoccluded_cache.hpp)
-// holds one float per receiver vertex that is not a graph vertex, in vertex
+// holds one value per receiver vertex that is not a graph vertex, in vertex
 // order. While two graphs split the receiver in turn, each value must stay
 // with its vertex, be dropped when the graph takes that vertex, and a vertex
 // new to the receiver must start uncomputed (NaN).
@@ -282,26 +317,27 @@ TEST(InteractionGraphTables, TheUnoccludedCacheKeepsEachValueWithItsVertex) {
   const auto start = std::make_shared<const InteractionGraph::Start>(receiver);
   InteractionGraph a(0, 0, start), b(1, 0, start);
   UnoccludedCache cache;  // a's
-  const auto value_of = [](VertexId v) { return 0.25f + static_cast<float>(v); };
+  // Distinct for every vertex, and as the cache keeps them.
+  const auto value_of = [](VertexId v) { return static_cast<float>(UnitFloat16(1.0 / (1.0 + v))); };
   std::mt19937 random(5);
   std::vector<InteractionGraph::NewVertex> created;
   std::size_t computed_before = 0;  // the receiver's vertices when the values were last set
   for (int round = 0; round < 40; ++round) {
     cache.update(a, receiver.num_vertices());
-    std::vector<float>& values = cache.values();
+    std::vector<UnitFloat16>& values = cache.values();
     std::size_t k = 0;
     for (VertexId v = 0; v < static_cast<VertexId>(receiver.num_vertices()); ++v) {
       if (a.index_of(v) >= 0) continue;
       ASSERT_LT(k, values.size());
       if (static_cast<std::size_t>(v) < computed_before) {
-        EXPECT_EQ(values[k], value_of(v)) << "round " << round << ", vertex " << v;
+        EXPECT_EQ(static_cast<float>(values[k]), value_of(v)) << "round " << round << ", vertex " << v;
       } else {
-        EXPECT_TRUE(std::isnan(values[k])) << "round " << round << ", vertex " << v;
+        EXPECT_TRUE(values[k].is_nan()) << "round " << round << ", vertex " << v;
       }
-      values[k++] = value_of(v);  // what push() computes for the missing ones
+      values[k++] = UnitFloat16(value_of(v));  // what push() computes for the missing ones
     }
     EXPECT_EQ(k, values.size());
-    EXPECT_EQ(cache.bytes(), sizeof(cache) + values.size() * sizeof(float));
+    EXPECT_EQ(cache.bytes(), sizeof(cache) + values.size() * sizeof(std::uint16_t));
     computed_before = receiver.num_vertices();
     // b makes receiver vertices a does not hold; a takes some of them.
     for (int step = 0; step < 6; ++step) {

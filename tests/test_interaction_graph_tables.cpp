@@ -78,27 +78,35 @@ TEST(InteractionGraphTables, CompactUintsReadBackWhatWasWrittenAndWidenOnlyWhenA
   EXPECT_EQ(wide[3], 70000u);
 }
 
-// BFloat16 keeps the importance's range with 8 significant bits: within
-// 2^-8 of the value, exact on small integers (pixel counts), order kept.
-TEST(InteractionGraphTables, BFloat16KeepsAValueWithinTwoToTheMinusEight) {
-  EXPECT_EQ(static_cast<float>(BFloat16(0.0f)), 0.0f);
-  for (int n = 0; n <= 256; ++n) EXPECT_EQ(static_cast<float>(BFloat16(static_cast<float>(n))), static_cast<float>(n));
-  std::mt19937 random(3);
-  std::uniform_real_distribution<double> exponent(-30.0, 30.0);
+// Values base^x for x uniform in [lowest, highest], sorted: each is kept
+// within 2^bits of itself, and a larger value is never kept smaller.
+template <typename Stored>
+void expect_kept_within_and_in_order(double base, double lowest, double highest, int bits, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> exponent(lowest, highest);
+  std::vector<double> values;
+  for (int i = 0; i < 20000; ++i) values.push_back(std::pow(base, exponent(random)));
+  std::sort(values.begin(), values.end());
   double previous_in = 0.0;
   float previous_out = 0.0f;
-  std::vector<double> values;
-  for (int i = 0; i < 20000; ++i) values.push_back(std::pow(10.0, exponent(random)));
-  std::sort(values.begin(), values.end());
   for (const double v : values) {
-    const float stored = BFloat16(v);
-    ASSERT_LE(std::abs(stored - v), std::ldexp(v, -8) * (1.0 + 1e-6)) << v;
+    const float stored = Stored(v);
+    ASSERT_LE(std::abs(stored - v), std::ldexp(v, bits) * (1.0 + 1e-6)) << v;
     if (v > previous_in) {
       ASSERT_GE(stored, previous_out) << v;
     }
     previous_in = v;
     previous_out = stored;
   }
+}
+
+// BFloat16 keeps the importance's range with 8 significant bits: within
+// 2^-8 of the value, exact on small integers (pixel counts), order kept.
+TEST(InteractionGraphTables, BFloat16KeepsAValueWithinTwoToTheMinusEight) {
+  EXPECT_EQ(static_cast<float>(BFloat16(0.0f)), 0.0f);
+  for (int n = 0; n <= 256; ++n) EXPECT_EQ(static_cast<float>(BFloat16(static_cast<float>(n))), static_cast<float>(n));
+  // 10^-30 … 10^30.
+  expect_kept_within_and_in_order<BFloat16>(10.0, -30.0, 30.0, -8, 3);
   EXPECT_TRUE(std::isnan(static_cast<float>(BFloat16(std::nanf("")))));
 }
 
@@ -116,22 +124,8 @@ TEST(InteractionGraphTables, UnitFloat16KeepsAFormFactorWithinTwoToTheMinusTwelv
   EXPECT_TRUE(UnitFloat16(std::nanf("")).is_nan());
   EXPECT_TRUE(std::isnan(static_cast<float>(UnitFloat16(std::nanf("")))));
   EXPECT_FALSE(UnitFloat16(1.9f).is_nan());
-  std::mt19937 random(7);
-  std::uniform_real_distribution<double> exponent(-30.0, 0.3);
-  std::vector<double> values;
-  for (int i = 0; i < 20000; ++i) values.push_back(std::pow(2.0, exponent(random)));
-  std::sort(values.begin(), values.end());
-  double previous_in = 0.0;
-  float previous_out = 0.0f;
-  for (const double v : values) {
-    const float stored = UnitFloat16(v);
-    ASSERT_LE(std::abs(stored - v), std::ldexp(v, -12) * (1.0 + 1e-6)) << v;
-    if (v > previous_in) {
-      ASSERT_GE(stored, previous_out) << v;
-    }
-    previous_in = v;
-    previous_out = stored;
-  }
+  // 2^-30 … 2^0.3.
+  expect_kept_within_and_in_order<UnitFloat16>(2.0, -30.0, 0.3, -12, 7);
 }
 
 TEST(InteractionGraphTables, GraphsOnOneReceiverShareItsStartAndHoldOnlyPerVertexValues) {

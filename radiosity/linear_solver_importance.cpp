@@ -136,28 +136,35 @@ void LinearSolver::carry_importance_back() {
   // Each graph's vertex importance from the last iteration's node importance,
   // made here per graph rather than kept between iterations (docs/design.md,
   // "Graph storage"), and carried from the vertices the graph had then.
-  std::vector<BFloat16> importance;
+  // A graph deposits only on its shooter: the shooters are carried to in
+  // parallel, each from its graphs in graph order, as one loop would.
+  std::vector<std::vector<int>> by_shooter(model_.num_surfaces());
   for (std::size_t gi = 0; gi < graphs_.size() && gi < importance_vertices_.size(); ++gi) {
-    const InteractionGraph& g = graphs_[gi];
-    const int s = g.shooter_surface();
+    by_shooter[graphs_[gi].shooter_surface()].push_back(static_cast<int>(gi));
+  }
+  tbb::parallel_for(0, model_.num_surfaces(), [&](int s) {
     SurfaceState& shooter = surfaces_[s];
-    const double rho = luminance(model_.material(g.receiver_surface()).reflectance);
-    vertex_importance(static_cast<int>(gi), importance);
-    const std::size_t carried = std::min<std::size_t>(importance_vertices_[gi], importance.size());
-    for (std::size_t i = 0; i < carried; ++i) {
-      const double worth = rho * importance[i];
-      if (!(worth > 0)) continue;
-      for (const GraphLink& l : g.links(static_cast<int>(i))) {
-        const double amount = worth * l.coefficients.visible();
-        if (!(amount > 0)) continue;
-        if (!is_cluster_element(l.shooter)) {
-          shooter.deposit[l.shooter] += amount;
-          continue;
+    std::vector<BFloat16> importance;
+    for (const int gi : by_shooter[s]) {
+      const InteractionGraph& g = graphs_[gi];
+      const double rho = luminance(model_.material(g.receiver_surface()).reflectance);
+      vertex_importance(gi, importance);
+      const std::size_t carried = std::min<std::size_t>(importance_vertices_[gi], importance.size());
+      for (std::size_t i = 0; i < carried; ++i) {
+        const double worth = rho * importance[i];
+        if (!(worth > 0)) continue;
+        for (const GraphLink& l : g.links(static_cast<int>(i))) {
+          const double amount = worth * l.coefficients.visible();
+          if (!(amount > 0)) continue;
+          if (!is_cluster_element(l.shooter)) {
+            shooter.deposit[l.shooter] += amount;
+            continue;
+          }
+          cluster_deposit[s][cluster_index(l.shooter)] += amount;
         }
-        cluster_deposit[s][cluster_index(l.shooter)] += amount;
       }
     }
-  }
+  });
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     SurfaceState& st = surfaces_[s];
     for (std::size_t ci = 0; ci < st.clusters.tree.size(); ++ci) {

@@ -2,8 +2,9 @@
 // Storage for the interaction graphs' per-vertex tables, which on the room
 // scenes were most of the graphs' own bytes (BENCHMARKS.md, "Per-vertex tables
 // in 16 bits"): link offsets and vertex indices that fit in 16 bits in almost
-// every graph, and the importance per graph vertex, which only the shooter
-// oracle's threshold reads.
+// every graph, the importance per graph vertex, which only the shooter
+// oracle's threshold reads, and the unoccluded form factors cached at the
+// receiver's other vertices ("Graph storage under 30 %").
 
 #include <algorithm>
 #include <bit>

@@ -78,11 +78,10 @@ class BFloat16 {
 // A non-negative value below 2, such as a form factor, in 16 bits: 5 bits of
 // exponent for [2^-31, 2) and 11 significant bits after the leading one,
 // rounded to nearest even, so within 2^-12 of the value. At 2^-31 and below
-// it is 0, from 2 on its largest value (1.9995);
-// NaN ("not computed yet") is kept. A float's 23 bits are more than the
-// unoccluded caches need: what they hold multiplies a ratio interpolated
-// between two vertices, far rougher than 2^-12 (docs/design.md, "Graph
-// storage").
+// it is 0, from 2 on its largest value (1.9995); NaN ("not computed yet") is
+// kept. A float's 23 bits are more than the unoccluded caches need: what they
+// hold multiplies a ratio interpolated between two vertices, far rougher than
+// 2^-12 (docs/design.md, "Graph storage").
 class UnitFloat16 {
  public:
   static constexpr std::uint16_t kNaN = 0xFFFF;

@@ -292,6 +292,11 @@ std::optional<double> open_outline_form_factor(const Vec3& x, const Vec3& n,
   for (const auto& t : triangles) {
     if (view_of(x, n, t) != TriangleView::kContour) return std::nullopt;
   }
+  return outline_contour_form_factor(x, n, points, outline);
+}
+
+double outline_contour_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> points,
+                                   std::span<const std::array<std::int32_t, 2>> outline) {
   double sum = 0.0;
   for (const auto& e : outline) {
     sum += edge_term(x, n, points[static_cast<std::size_t>(e[0])], points[static_cast<std::size_t>(e[1])]);

@@ -60,6 +60,13 @@ std::optional<double> outline_form_factor(const Vec3& x, const Vec3& n, const Ve
                                           std::span<const std::array<std::int32_t, 2>> outline,
                                           bool* clipped = nullptr);
 
+// The contour integral of an outline as for outline_form_factor, with no
+// check: the form factor of a surface of triangles that share edges, planar
+// or not, only where x sees every triangle plainly (open_outline_form_factor
+// says what that is and checks it).
+double outline_contour_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> points,
+                                   std::span<const std::array<std::int32_t, 2>> outline);
+
 // Form factor from x of a surface of triangles that share edges, planar or
 // not, given its outline as for outline_form_factor. Where every triangle is
 // seen plainly (x clear of its plane, in front of it, and the triangle wholly

@@ -408,26 +408,49 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
   return surface_transport(receiver, polygons, ShooterTriangles{&table, {}}, rays, sampling, ray_count, shape);
 }
 
-TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
-                                               const ShooterTriangles& triangles, const RayCaster& rays,
-                                               const TransportSampling& sampling, std::uint64_t& ray_count,
-                                               const ShooterShape* shape, ShooterHorizon horizon) {
-  TransportCoefficients out;
+namespace {
+
+// The running sums by which disc_drawn_transport draws its shadow rays
+// (`drawing`) and weighs what they find (`weighing`), one entry per
+// triangle; one set per thread, reused, as for triangle_transport.
+struct DiscWeights {
+  std::vector<double> drawing;
+  std::vector<double> weighing;
+};
+
+// Which normal a shooter triangle's disc estimate takes: the plane's, shared
+// by every triangle of a planar shooter, or each triangle's own where the
+// shooter bends. With their own normals the triangles must also be seen
+// plainly (open_outline_form_factor's condition: x in front of the
+// triangle's plane, clear of it, and the triangle wholly above x's tangent
+// plane); fill_disc_weights returns false as soon as one is not.
+enum class TriangleNormals { kShared, kOwnSeenPlainly };
+
+// Form factors of the triangles approximated away from x: the exact one for
+// every triangle of a large surface cost half again the solve time of a
+// furnished room.
+bool fill_disc_weights(const ReceiverPoint& receiver, const ShooterTriangles& triangles, ShooterHorizon horizon,
+                       TriangleNormals normals, DiscWeights& out) {
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
-  if (!(ff > 0.0) || triangles.size() == 0) return out;
-  out.unoccluded = static_cast<float>(ff);
-  // Shadow rays are drawn by each triangle's form factor, approximated away
-  // from x: the exact one for every triangle of a large surface cost half
-  // again the solve time of a furnished room.
-  std::vector<double> cumulative, weighing;
-  cumulative.reserve(triangles.size());
-  weighing.reserve(triangles.size());
+  out.drawing.clear();
+  out.weighing.clear();
   const ShooterTriangleTable& table = *triangles.table;
   const Vec3 m = table.normal[triangles.row(0)];
   double sum = 0.0, weighed = 0.0;
   for (std::size_t j = 0; j < triangles.size(); ++j) {
     const std::size_t row = triangles.row(j);
-    DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal, m, table, row, approach);
+    if (normals == TriangleNormals::kOwnSeenPlainly) {
+      const auto& t = table.corner[row];
+      // The same tolerance as the form factor's own (a billionth of the
+      // size), against the longest edge, which is never shorter.
+      if (!(OpenMesh::dot(table.normal[row], receiver.x - t[0]) > 1e-9 * std::sqrt(table.size2[row]))) return false;
+      for (const Vec3& corner : t) {
+        if (!(OpenMesh::dot(receiver.normal, corner - receiver.x) >= 0.0)) return false;
+      }
+    }
+    DiscFormFactors f = disc_form_factors(receiver.x, receiver.normal,
+                                          normals == TriangleNormals::kShared ? m : table.normal[row], table, row,
+                                          approach);
     if (horizon == ShooterHorizon::kCrossing) {
       const auto& t = table.corner[row];
       int above = 0;
@@ -437,17 +460,28 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
       f.drawing = f.weighing;
     }
     sum += horizon == ShooterHorizon::kUnknown ? f.drawing : f.weighing;
-    cumulative.push_back(sum);
+    out.drawing.push_back(sum);
     weighed += f.weighing;
-    weighing.push_back(weighed);
+    out.weighing.push_back(weighed);
   }
+  return true;
+}
+
+// A constant-basis shooter whose exact unoccluded form factor `ff` is known,
+// its shadow rays drawn by `weights`.
+TransportCoefficients disc_drawn_transport(const ReceiverPoint& receiver, double ff,
+                                           const ShooterTriangles& triangles, const DiscWeights& weights,
+                                           const RayCaster& rays, const TransportSampling& sampling,
+                                           std::uint64_t& ray_count, const ShooterShape* shape) {
+  TransportCoefficients out;
+  out.unoccluded = static_cast<float>(ff);
   // Nothing drawn: nothing says the surface is hidden.
-  if (!(sum > 0.0)) {
+  if (!(weights.drawing.back() > 0.0)) {
     out.f[0] = static_cast<float>(ff);
     return out;
   }
   std::vector<RayOutcome> outcomes;
-  double visible = visible_fraction(receiver, triangles, cumulative, rays, sampling, ray_count, &outcomes);
+  double visible = visible_fraction(receiver, triangles, weights.drawing, rays, sampling, ray_count, &outcomes);
   // The rays were drawn by the widened weights; each counts for its
   // triangle's own form factor over the weight it was drawn by, or the
   // widening, which favours far triangles, lets them decide how much is
@@ -455,14 +489,41 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
   // fraction read 16 % high (docs/accuracy.md, "What a table hides").
   double seen = 0.0, drawn = 0.0;
   for (const RayOutcome& r : outcomes) {
-    const double d = share(cumulative, r.triangle);
-    const double w = d > 0.0 ? share(weighing, r.triangle) / d : 0.0;
+    const double d = share(weights.drawing, r.triangle);
+    const double w = d > 0.0 ? share(weights.weighing, r.triangle) / d : 0.0;
     drawn += w;
     if (r.clear) seen += w;
   }
   if (drawn > 0.0) visible = seen / drawn;
-  out.f[0] = static_cast<float>(ff * visible * shape_factor(weighing, cumulative, shape, outcomes, triangles));
+  out.f[0] =
+      static_cast<float>(ff * visible * shape_factor(weights.weighing, weights.drawing, shape, outcomes, triangles));
   return out;
+}
+
+}  // namespace
+
+TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
+                                               const ShooterTriangles& triangles, const RayCaster& rays,
+                                               const TransportSampling& sampling, std::uint64_t& ray_count,
+                                               const ShooterShape* shape, ShooterHorizon horizon) {
+  if (!(ff > 0.0) || triangles.size() == 0) return {};
+  thread_local DiscWeights weights;
+  fill_disc_weights(receiver, triangles, horizon, TriangleNormals::kShared, weights);
+  return disc_drawn_transport(receiver, ff, triangles, weights, rays, sampling, ray_count, shape);
+}
+
+std::optional<TransportCoefficients> curved_cluster_transport(
+    const ReceiverPoint& receiver, const ShooterTriangles& triangles, std::span<const Vec3> points,
+    std::span<const std::array<std::int32_t, 2>> outline, const RayCaster& rays, const TransportSampling& sampling,
+    std::uint64_t& ray_count, const ShooterShape* shape) {
+  if (outline.empty() || triangles.size() == 0) return std::nullopt;
+  thread_local DiscWeights weights;
+  if (!fill_disc_weights(receiver, triangles, ShooterHorizon::kAbove, TriangleNormals::kOwnSeenPlainly, weights)) {
+    return std::nullopt;
+  }
+  const double ff = outline_contour_form_factor(receiver.x, receiver.normal, points, outline);
+  if (!(ff > 0.0)) return TransportCoefficients{};
+  return disc_drawn_transport(receiver, ff, triangles, weights, rays, sampling, ray_count, shape);
 }
 
 }  // namespace lhr

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -146,5 +147,17 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
                                                const ShooterTriangles& triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,
                                                const ShooterShape* shape, ShooterHorizon horizon);
+
+// The same for a cluster of a curved shooter (`triangles`, its roots) when
+// x sees every one of them plainly: its exact form factor is then the
+// contour integral of its `outline` (edges of `points`, as for
+// outline_form_factor), and each root's disc estimate takes the root's own
+// normal (docs/design.md, "Cluster outlines"). nullopt where some root is
+// not seen plainly or there is no outline: the caller takes the roots one by
+// one (cluster_transport).
+std::optional<TransportCoefficients> curved_cluster_transport(
+    const ReceiverPoint& receiver, const ShooterTriangles& triangles, std::span<const Vec3> points,
+    std::span<const std::array<std::int32_t, 2>> outline, const RayCaster& rays, const TransportSampling& sampling,
+    std::uint64_t& ray_count, const ShooterShape* shape);
 
 }  // namespace lhr

@@ -10,8 +10,10 @@
 #include <random>
 #include <vector>
 
+#include "mesh/hierarchy.hpp"
 #include "radiosity/form_factor.hpp"
 #include "radiosity/ray_caster.hpp"
+#include "radiosity/root_clusters.hpp"
 #include "radiosity/sampling.hpp"
 #include "radiosity/transport.hpp"
 
@@ -423,6 +425,94 @@ TEST(ClusterTransport, AFloorAcrossTheReceiversHorizonGivesWhatIsAboveIt) {
                                                              ray_count, &shape, ShooterHorizon::kCrossing);
     EXPECT_FLOAT_EQ(c.unoccluded, static_cast<float>(ff));
     EXPECT_NEAR(c.f[0] * values.mean / truth, 1.0, 0.01) << "receiver at " << x;
+  }
+}
+
+// A cluster of a curved shooter that the receiver sees plainly takes its
+// exact form factor from its outline and draws its rays by disc estimates
+// with each root's own normal (docs/design.md, "Cluster outlines"); the
+// cluster link that takes every root's exact form factor is the truth. The
+// shooter is a floor bent up into a quarter cylinder, brighter along one
+// side and at one end of the bend; where a root is behind the receiver or
+// below its horizon, the outline does not hold and nothing is returned.
+TEST(ClusterTransport, ACurvedClusterSeenPlainlyAgreesWithItsRootsOneByOne) {
+  constexpr int kCells = 8;
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> vh;
+  for (int j = 0; j <= kCells; ++j) {
+    for (int i = 0; i <= kCells; ++i) {
+      const double angle = 0.5 * M_PI * i / kCells;
+      vh.push_back(mesh.add_vertex(Vec3(4.0 * std::sin(angle), 4.0 * (1.0 - std::cos(angle)), 0.5 * j)));
+    }
+  }
+  for (int j = 0; j < kCells; ++j) {
+    for (int i = 0; i < kCells; ++i) {
+      const auto a = vh[j * (kCells + 1) + i], b = vh[j * (kCells + 1) + i + 1];
+      const auto c = vh[(j + 1) * (kCells + 1) + i + 1], d = vh[(j + 1) * (kCells + 1) + i];
+      mesh.add_face(a, c, b);
+      mesh.add_face(a, d, c);
+    }
+  }
+  const SurfaceHierarchy h(mesh);
+  std::vector<std::array<Vec3, 3>> triangles;
+  std::vector<RootCluster> clusters(1);
+  for (std::size_t f = 0; f < h.num_roots(); ++f) {
+    const auto& c = h.corners(h.root(static_cast<int>(f)));
+    triangles.push_back({h.point(c[0]), h.point(c[1]), h.point(c[2])});
+    clusters[0].roots.push_back(static_cast<NodeId>(f));
+  }
+  ASSERT_GT(OpenMesh::dot(OpenMesh::cross(triangles[0][1] - triangles[0][0], triangles[0][2] - triangles[0][0]),
+                          Vec3(-1, 1, 0)),
+            0.0)
+      << "the shooter must face the inside of its bend";
+  const ClusterOutlines outlines = cluster_outlines(h, clusters, root_corner_edges(h), 1);
+  const std::span<const Vec3> points(h.mesh().points(), h.mesh().n_vertices());
+  const ShooterTriangleTable table(triangles);
+  const ShooterTriangles shooter{&table, {}};
+  const RayCaster rays({&h.mesh()});
+  const TriangleValues values(triangles,
+                              [](const Vec3& y) { return (y[1] < 1.2 ? 4.0 : 1.0) * (y[2] < 1.5 ? 2.0 : 1.0); });
+  const ShooterShape shape = values.shape();
+  const Vec3 inward = Vec3(-1, 1, 0).normalized();
+  struct Case {
+    Vec3 x, normal;
+  };
+  // Inside the bend, facing it: every root in front and above the horizon.
+  for (const Case& r : {Case{Vec3(0.5, 3.5, 2.0), -inward}, Case{Vec3(1.0, 3.0, 1.0), Vec3(1, -1, 0.2)},
+                        Case{Vec3(1.5, 2.5, 3.5), Vec3(1, -1, -0.3)}}) {
+    ReceiverPoint receiver;
+    receiver.x = r.x;
+    receiver.normal = r.normal.normalized();
+    double worst_unoccluded = 0.0, curved_sum = 0.0, exact_sum = 0.0;
+    constexpr int kPatterns = 64;
+    for (int key = 1; key <= kPatterns; ++key) {
+      TransportSampling sampling;
+      sampling.key = static_cast<std::uint64_t>(key);
+      std::uint64_t ray_count = 0;
+      const std::optional<TransportCoefficients> curved =
+          curved_cluster_transport(receiver, shooter, points, outlines.of(0), rays, sampling, ray_count, &shape);
+      ASSERT_TRUE(curved.has_value()) << "receiver at " << r.x << " sees every root plainly";
+      const TransportCoefficients exact =
+          cluster_transport(receiver, shooter, rays, sampling, ray_count, &shape, root_corner_edges(h));
+      worst_unoccluded = std::max(worst_unoccluded, std::abs(curved->unoccluded / exact.unoccluded - 1.0));
+      curved_sum += curved->f[0];
+      exact_sum += exact.f[0];
+    }
+    EXPECT_LT(worst_unoccluded, 1e-6) << "receiver at " << r.x;
+    // The shares differ only where the disc estimates do: far roots.
+    EXPECT_NEAR(curved_sum / exact_sum, 1.0, 0.01) << "receiver at " << r.x;
+  }
+  // Roots below the horizon (a receiver tilted away from part of the
+  // bend), or behind the receiver (outside the bend): the roots are taken
+  // one by one instead.
+  for (const Case& r : {Case{Vec3(0.5, 3.5, 2.0), Vec3(0, -1, 0)}, Case{Vec3(5.0, -1.0, 2.0), inward}}) {
+    ReceiverPoint receiver;
+    receiver.x = r.x;
+    receiver.normal = r.normal.normalized();
+    TransportSampling sampling;
+    std::uint64_t ray_count = 0;
+    EXPECT_FALSE(curved_cluster_transport(receiver, shooter, points, outlines.of(0), rays, sampling, ray_count, &shape))
+        << "receiver at " << r.x;
   }
 }
 

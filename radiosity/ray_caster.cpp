@@ -24,9 +24,16 @@ void throw_on_error(RTCDevice device, const char* what) {
   }
 }
 
-RTCRay make_segment_ray(const Vec3& from, const Vec3& to) {
+// A shadow ray stops `end_gap` short of `to`. An end point lifted off its own
+// surface can still lie within Embree's single precision of another: a sample
+// on a wall next to the ceiling, 10⁻⁸ below it, reached from below at a
+// grazing angle, rounds onto the ceiling's plane and was found blocked there
+// (one ray of a link in the furnace cube: its corner vertex read 1.9963, not
+// 2). Stopping a lift's length short moves the end off both.
+RTCRay make_segment_ray(const Vec3& from, const Vec3& to, double end_gap) {
   RTCRay ray{};
   const Vec3 d = to - from;
+  const double length = d.norm();
   ray.org_x = static_cast<float>(from[0]);
   ray.org_y = static_cast<float>(from[1]);
   ray.org_z = static_cast<float>(from[2]);
@@ -34,18 +41,20 @@ RTCRay make_segment_ray(const Vec3& from, const Vec3& to) {
   ray.dir_y = static_cast<float>(d[1]);
   ray.dir_z = static_cast<float>(d[2]);
   ray.tnear = 0.0f;
-  ray.tfar = 1.0f;  // the direction spans the segment
+  // The direction spans the segment.
+  ray.tfar = length > end_gap ? static_cast<float>(1.0 - end_gap / length) : 0.0f;
   ray.mask = 0xFFFFFFFFu;
   ray.flags = 0;
   return ray;
 }
 
-void occluded_stream(RTCScene scene, std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) {
+void occluded_stream(RTCScene scene, std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked,
+                     double end_gap) {
   constexpr std::size_t kChunk = 256;
   RTCRay buffer[kChunk];
   for (std::size_t first = 0; first < rays.size(); first += kChunk) {
     const std::size_t count = std::min(kChunk, rays.size() - first);
-    for (std::size_t i = 0; i < count; ++i) buffer[i] = make_segment_ray(rays[first + i].from, rays[first + i].to);
+    for (std::size_t i = 0; i < count; ++i) buffer[i] = make_segment_ray(rays[first + i].from, rays[first + i].to, end_gap);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -72,7 +81,8 @@ struct Packet16 {
 };
 
 template <class P>
-void occluded_packets(RTCScene scene, std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) {
+void occluded_packets(RTCScene scene, std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked,
+                      double end_gap) {
   constexpr std::size_t kWidth = P::kWidth;
   // Embree wants the valid mask aligned like the packet.
   alignas(4 * kWidth) int valid[kWidth];
@@ -81,7 +91,7 @@ void occluded_packets(RTCScene scene, std::span<const ShadowRay> rays, std::span
     const std::size_t count = std::min(kWidth, rays.size() - first);
     for (std::size_t i = 0; i < kWidth; ++i) {
       valid[i] = i < count ? -1 : 0;
-      const RTCRay ray = i < count ? make_segment_ray(rays[first + i].from, rays[first + i].to) : RTCRay{};
+      const RTCRay ray = i < count ? make_segment_ray(rays[first + i].from, rays[first + i].to, end_gap) : RTCRay{};
       packet.org_x[i] = ray.org_x;
       packet.org_y[i] = ray.org_y;
       packet.org_z[i] = ray.org_z;
@@ -152,7 +162,7 @@ RayCaster::~RayCaster() {
 bool RayCaster::occluded(const Vec3& from, const Vec3& to) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray = make_segment_ray(from, to);
+  RTCRay ray = make_segment_ray(from, to, epsilon_);
   rtcOccluded1(scene_, &context, &ray);
   return ray.tfar < 0.0f;  // Embree marks a blocked ray with tfar = -inf
 }
@@ -172,16 +182,16 @@ void RayCaster::occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t
       for (std::size_t i = 0; i < rays.size(); ++i) blocked[i] = occluded(rays[i].from, rays[i].to) ? 1 : 0;
       return;
     case ShadowQuery::kStream:
-      occluded_stream(scene_, rays, blocked);
+      occluded_stream(scene_, rays, blocked, epsilon_);
       return;
     case ShadowQuery::kPacket4:
-      occluded_packets<Packet4>(scene_, rays, blocked);
+      occluded_packets<Packet4>(scene_, rays, blocked, epsilon_);
       return;
     case ShadowQuery::kPacket8:
-      occluded_packets<Packet8>(scene_, rays, blocked);
+      occluded_packets<Packet8>(scene_, rays, blocked, epsilon_);
       return;
     case ShadowQuery::kPacket16:
-      occluded_packets<Packet16>(scene_, rays, blocked);
+      occluded_packets<Packet16>(scene_, rays, blocked, epsilon_);
       return;
   }
 }
@@ -190,7 +200,7 @@ std::optional<RayHit> RayCaster::intersect(const Vec3& origin, const Vec3& direc
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rayhit{};
-  rayhit.ray = make_segment_ray(origin, origin + direction);
+  rayhit.ray = make_segment_ray(origin, origin + direction, 0.0);
   rayhit.ray.tfar = std::numeric_limits<float>::infinity();
   rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rayhit);

@@ -52,8 +52,8 @@ class RayCaster {
   double epsilon() const { return epsilon_; }
   double diagonal() const { return diagonal_; }
 
-  // Whether anything blocks the open segment (from, to). End points are used
-  // as given: lift them off their surfaces first (lift()).
+  // Whether anything blocks the open segment (from, to), stopped epsilon()
+  // short of `to`. Lift the end points off their surfaces first (lift()).
   bool occluded(const Vec3& from, const Vec3& to) const;
   // Many segments at once, the fastest way measured; blocked[i] = 1 if occluded.
   void occluded(std::span<const ShadowRay> rays, std::span<std::uint8_t> blocked) const;

@@ -65,9 +65,9 @@ LinearSolver::LinearSolver(MeshedScene& model, LinearOptions options)
       }
       st.centre /= model_.surface_area(s);
     }
-    // A curved surface's outlines serve its whole-surface form factor where
-    // every root is seen plainly (unoccluded_form_factor); its cluster links
-    // still take their roots one by one.
+    // A curved surface's outlines serve where every root is seen plainly:
+    // its whole-surface form factor (unoccluded_form_factor) and its cluster
+    // links' (transport_to).
     st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters.tree, st.root_edges);
     sync_vertices(s);
   }

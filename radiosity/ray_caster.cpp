@@ -29,11 +29,13 @@ void throw_on_error(RTCDevice device, const char* what) {
 // on a wall next to the ceiling, 10⁻⁸ below it, reached from below at a
 // grazing angle, rounds onto the ceiling's plane and was found blocked there
 // (one ray of a link in the furnace cube: its corner vertex read 1.9963, not
-// 2). Stopping a lift's length short moves the end off both.
+// 2). Stopping a lift's length short moves the end off both. The gap is
+// taken against the largest coordinate of the segment, not its length: at
+// least end_gap and at most √3 times it, without a square root per ray.
 RTCRay make_segment_ray(const Vec3& from, const Vec3& to, double end_gap) {
   RTCRay ray{};
   const Vec3 d = to - from;
-  const double length = d.norm();
+  const double length = std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])});
   ray.org_x = static_cast<float>(from[0]);
   ray.org_y = static_cast<float>(from[1]);
   ray.org_z = static_cast<float>(from[2]);

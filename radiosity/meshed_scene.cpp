@@ -14,9 +14,15 @@ MeshedScene::MeshedScene(const Scene& scene, const MeshingOptions& meshing)
   }
   std::vector<const TriMesh*> meshes;
   for (int s = 0; s < num_surfaces(); ++s) {
-    meshes.push_back(&hierarchies_[s].mesh());
+    const SurfaceHierarchy& h = hierarchies_[s];
+    meshes.push_back(&h.mesh());
+    std::vector<double>& roots = root_area_.emplace_back(h.num_roots());
     double total = 0.0;
-    for (std::size_t f = 0; f < hierarchies_[s].num_roots(); ++f) total += area(s, static_cast<NodeId>(f));
+    for (std::size_t f = 0; f < h.num_roots(); ++f) {
+      const auto t = triangle(s, h.root(static_cast<int>(f)));
+      roots[f] = 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
+      total += roots[f];
+    }
     surface_area_.push_back(total);
   }
   rays_ = std::make_unique<RayCaster>(meshes);
@@ -26,11 +32,6 @@ std::array<Vec3, 3> MeshedScene::triangle(int s, NodeId n) const {
   const SurfaceHierarchy& h = hierarchies_[s];
   const auto& c = h.corners(n);
   return {h.point(c[0]), h.point(c[1]), h.point(c[2])};
-}
-
-double MeshedScene::area(int s, NodeId n) const {
-  const auto t = triangle(s, n);
-  return 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
 }
 
 Vec3 MeshedScene::normal(int s, NodeId n) const {

@@ -5,6 +5,7 @@
 // the geometry rays see).
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -29,7 +30,13 @@ class MeshedScene {
   double surface_area(int s) const { return surface_area_[s]; }
 
   std::array<Vec3, 3> triangle(int s, NodeId n) const;
-  double area(int s, NodeId n) const;
+  // A node's area: its root's over 4^level, since a split cuts a triangle
+  // into four congruent ones on the root's plane. Read on the oracles' hot
+  // paths, where working it out from the corners was 3 % of a room's solve.
+  double area(int s, NodeId n) const {
+    const SurfaceHierarchy& h = hierarchies_[s];
+    return std::ldexp(root_area_[s][static_cast<std::size_t>(h.root_face(n))], -2 * h.level(n));
+  }
   Vec3 normal(int s, NodeId n) const;  // unit, front side
   Vec3 centroid(int s, NodeId n) const;
 
@@ -43,6 +50,7 @@ class MeshedScene {
   const Scene* scene_;
   std::vector<SurfaceHierarchy> hierarchies_;
   std::vector<double> surface_area_;
+  std::vector<std::vector<double>> root_area_;  // per surface and root face
   std::unique_ptr<RayCaster> rays_;
   double max_edge_ = 0.0;
 };

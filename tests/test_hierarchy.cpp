@@ -17,6 +17,7 @@
 #include "mesh/hierarchy.hpp"
 #include "mesh/hierarchy_check.hpp"
 #include "mesh/validate.hpp"
+#include "radiosity/meshed_scene.hpp"
 #include "scene_fixtures.hpp"
 
 namespace lhr {
@@ -511,6 +512,35 @@ TEST(Hierarchy, ExportedFacesTileTheirLeaves) {
     const auto& v = h.corners(leaf);
     const double leaf_area = 0.5 * std::abs(signed_area2(h.point(v[0]), h.point(v[1]), h.point(v[2])));
     EXPECT_NEAR(area, leaf_area, 1e-12 * leaf_area);
+  }
+}
+
+// MeshedScene::area reads a node's area as its root's over 4^level: a split
+// cuts a triangle into four congruent ones on the root's plane, on a curved
+// surface's flat facets as on a plane. Checked against each node's corners
+// after random splits of a tessellated sphere and a cube.
+TEST(Hierarchy, ANodesAreaIsItsRootsOverFourPerLevel) {
+  for (const Scene& scene : {test::furnace_sphere(), test::furnace_cube(0.5, 1.0)}) {
+    MeshingOptions meshing;
+    meshing.max_edge = 0.5;
+    MeshedScene model(scene, meshing);
+    std::mt19937 random(5);
+    std::size_t checked = 0;
+    for (int s = 0; s < model.num_surfaces(); ++s) {
+      SurfaceHierarchy& h = model.hierarchy(s);
+      for (int round = 0; round < 40; ++round) {
+        const std::vector<NodeId> leaves = h.leaves();
+        h.split(leaves[std::uniform_int_distribution<std::size_t>(0, leaves.size() - 1)(random)]);
+      }
+      for (std::size_t n = 0; n < h.num_nodes(); ++n) {
+        const auto t = model.triangle(s, static_cast<NodeId>(n));
+        const double corners = 0.5 * OpenMesh::cross(t[1] - t[0], t[2] - t[0]).norm();
+        EXPECT_NEAR(model.area(s, static_cast<NodeId>(n)), corners, 1e-12 * corners)
+            << scene.surfaces[s].name << " node " << n << " level " << h.level(static_cast<NodeId>(n));
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 400u) << scene.surfaces.front().name;
   }
 }
 

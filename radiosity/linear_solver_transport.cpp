@@ -194,10 +194,12 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
       // docs/design.md, "Cluster outlines": seen plainly, a curved cluster's
       // exact form factor is its outline's too.
       const TriMesh& mesh = model_.hierarchy(s).mesh();
-      const std::optional<TransportCoefficients> seen_plainly = curved_cluster_transport(
-          point, triangles, std::span<const Vec3>(mesh.points(), mesh.n_vertices()),
-          st.outlines.start.empty() ? std::span<const std::array<VertexId, 2>>() : st.outlines.of(cluster_index(shooter)),
-          model_.rays(), sampling, rays, shape_in);
+      const std::span<const std::array<VertexId, 2>> outline =
+          st.outlines.start.empty() ? std::span<const std::array<VertexId, 2>>()
+                                    : st.outlines.of(cluster_index(shooter));
+      const std::optional<TransportCoefficients> seen_plainly =
+          curved_cluster_transport(point, triangles, std::span<const Vec3>(mesh.points(), mesh.n_vertices()), outline,
+                                   model_.rays(), sampling, rays, shape_in);
       if (seen_plainly) return *seen_plainly;
     }
     return cluster_transport(point, triangles, model_.rays(), sampling, rays, shape_in, st.root_edges);

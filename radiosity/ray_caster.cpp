@@ -56,7 +56,9 @@ void occluded_stream(RTCScene scene, std::span<const ShadowRay> rays, std::span<
   RTCRay buffer[kChunk];
   for (std::size_t first = 0; first < rays.size(); first += kChunk) {
     const std::size_t count = std::min(kChunk, rays.size() - first);
-    for (std::size_t i = 0; i < count; ++i) buffer[i] = make_segment_ray(rays[first + i].from, rays[first + i].to, end_gap);
+    for (std::size_t i = 0; i < count; ++i) {
+      buffer[i] = make_segment_ray(rays[first + i].from, rays[first + i].to, end_gap);
+    }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;

@@ -102,8 +102,8 @@ TEST(RayCaster, AnEndJustBelowAnotherSurfaceIsNotBlockedByIt) {
       rays.push_back({from, scene.lift(Vec3(x, 1.0 - below, 1.0), Vec3(0, 0, -1))});
     }
   }
-  for (const ShadowQuery query :
-       {ShadowQuery::kSingle, ShadowQuery::kStream, ShadowQuery::kPacket4, ShadowQuery::kPacket8, ShadowQuery::kPacket16}) {
+  for (const ShadowQuery query : {ShadowQuery::kSingle, ShadowQuery::kStream, ShadowQuery::kPacket4,
+                                  ShadowQuery::kPacket8, ShadowQuery::kPacket16}) {
     std::vector<std::uint8_t> blocked(rays.size());
     scene.occluded(rays, blocked, query);
     EXPECT_EQ(std::count(blocked.begin(), blocked.end(), std::uint8_t{1}), 0)

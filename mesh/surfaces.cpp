@@ -115,6 +115,99 @@ void lift_coplanar_emitters(const PolygonSoup& soup, SurfaceSplit& split) {
   }
 }
 
+// Pieces of a light that reflects nothing, lying in one plane with one
+// material inside one group, shoot as one surface whether they touch or not
+// (docs/design.md §3, "Panels of lights"): a ceiling of ten thousand small
+// lamps is then one shooter whose cluster tree opens only where a receiver
+// needs it, not ten thousand shooters each linked to every receiver's
+// initial vertices. Such a piece has a fixed radiance and receives nothing,
+// so joining it to another changes no value, only how the light is shot.
+// Pieces whose union would not pass the planarity test stay apart.
+void unite_light_panels(const PolygonSoup& soup, const std::vector<std::vector<int>>& welded,
+                        const std::vector<Vec3>& normal, const std::vector<double>& area,
+                        const std::vector<bool>& kept, UnionFind& components) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const auto panel_material = [&](int m) {
+    const Material& material = soup.materials.at(m);
+    return material.is_emitter() && material.reflectance[0] == 0.0 && material.reflectance[1] == 0.0 &&
+           material.reflectance[2] == 0.0;
+  };
+  struct Piece {
+    std::vector<int> faces;
+    Vec3 newell{0, 0, 0};
+    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  };
+  std::map<int, Piece> pieces;  // by component root
+  Vec3 scene_lo(kInf, kInf, kInf), scene_hi(-kInf, -kInf, -kInf);
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    if (!kept[f]) continue;
+    for (int v : welded[f]) {
+      scene_lo.minimize(soup.points[v]);
+      scene_hi.maximize(soup.points[v]);
+    }
+    if (!panel_material(soup.faces[f].material)) continue;
+    Piece& piece = pieces[components.find(static_cast<int>(f))];
+    piece.faces.push_back(static_cast<int>(f));
+    piece.newell += 2.0 * area[f] * normal[f];
+    for (int v : welded[f]) {
+      piece.lo.minimize(soup.points[v]);
+      piece.hi.maximize(soup.points[v]);
+    }
+  }
+  const double diagonal = (scene_hi - scene_lo).norm();
+  if (pieces.size() < 2 || !(diagonal > 0.0)) return;
+
+  // Points within half the planarity tolerance of the plane through their
+  // centroid with the summed normal, so that the surface made of them is
+  // planar by the test below with room to spare.
+  const auto planar_together = [&](const std::vector<const Piece*>& set) {
+    Vec3 sum(0, 0, 0), centroid(0, 0, 0), lo(kInf, kInf, kInf), hi(-kInf, -kInf, -kInf);
+    std::size_t count = 0;
+    for (const Piece* piece : set) {
+      sum += piece->newell;
+      lo.minimize(piece->lo);
+      hi.maximize(piece->hi);
+      for (int f : piece->faces) {
+        for (int v : welded[f]) centroid += soup.points[v];
+        count += welded[f].size();
+      }
+    }
+    const double sum_norm = sum.norm();
+    if (!(sum_norm > 0.0)) return false;
+    const Vec3 n = sum / sum_norm;
+    centroid /= static_cast<double>(count);
+    const double tolerance = 0.5 * kPlanarRelative * (hi - lo).norm();
+    for (const Piece* piece : set) {
+      for (int f : piece->faces) {
+        for (int v : welded[f]) {
+          if (std::abs(OpenMesh::dot(soup.points[v] - centroid, n)) > tolerance) return false;
+        }
+      }
+    }
+    return true;
+  };
+
+  // Candidates share group, material, normal (to 10⁻⁶) and offset (to 10⁻⁷ of
+  // the scene): a plane cut by a bin's edge only leaves two panels apart.
+  std::map<std::array<long long, 6>, std::vector<int>> candidates;
+  for (const auto& [root, piece] : pieces) {
+    if (!planar_together({&piece})) continue;  // a curved piece stays a surface of its own
+    const Vec3 n = piece.newell / piece.newell.norm();
+    const InputFace& face = soup.faces[piece.faces.front()];
+    const double offset = OpenMesh::dot(n, soup.points[welded[piece.faces.front()].front()]);
+    candidates[{face.group, face.material, std::llround(n[0] * 1e6), std::llround(n[1] * 1e6),
+                std::llround(n[2] * 1e6), std::llround(offset / (1e-7 * diagonal))}]
+        .push_back(root);
+  }
+  for (const auto& [key, roots] : candidates) {
+    if (roots.size() < 2) continue;
+    std::vector<const Piece*> set;
+    for (int root : roots) set.push_back(&pieces.at(root));
+    if (!planar_together(set)) continue;
+    for (int root : roots) components.unite(roots.front(), root);
+  }
+}
+
 }  // namespace
 
 SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg) {
@@ -184,6 +277,8 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
       }
     }
   }
+
+  unite_light_panels(soup, welded, normal, area, kept, components);
 
   // Roots are each component's first face, so visiting faces in order gives
   // surfaces ordered by first face index.

@@ -287,26 +287,36 @@ TEST(Budgets, MaxLinksWarnsAndIsRecordedInStats) {
             50000 + kLinkOvershoot + capped["links_linked_past_budget"].get<std::size_t>());
 }
 
-// 400 small lamps over a floor (docs/robustness.md, "Budgets"): each lamp's
-// first links reach the floor's initial vertices whatever the budget, or its
-// light would be lost, so under --max-memory 1M the data ends over it (6 MB)
-// without any refinement being refused. The run must say so, in stats.json
-// and in a warning naming both sizes; it said nothing before.
-TEST(Budgets, FirstLinksOverTheMemoryBudgetAreReportedAndWarned) {
-  const auto dir = test::fresh_dir("budget_lamps");
+// 400 small lamps in one plane over a floor, written as lamps.obj in `dir`.
+// In one group they are one surface (docs/design.md §3, "Panels of lights");
+// each in a group of its own, they are 400 surfaces.
+void write_lamps(const std::filesystem::path& dir, bool group_each) {
   std::ostringstream obj;
   obj << "mtllib lamps.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\nusemtl lamp\n";
   int n = 4;
   for (int i = 0; i < 20; ++i) {
     for (int j = 0; j < 20; ++j) {
-      const double x = -4.75 + 0.5 * i, z = -4.75 + 0.5 * j, a = 0.015;
-      obj << "v " << x - a << " 2 " << z - a << "\nv " << x + a << " 2 " << z - a << "\nv " << x + a << " 2 " << z + a
-          << "\nv " << x - a << " 2 " << z + a << "\nf " << n + 1 << ' ' << n + 2 << ' ' << n + 3 << ' ' << n + 4 << '\n';
+      const double x = -4.75 + 0.5 * i, z = -4.75 + 0.5 * j, a = 0.015, y = 2.0;
+      if (group_each) obj << "g lamp" << n << "\nusemtl lamp\n";
+      obj << "v " << x - a << ' ' << y << ' ' << z - a << "\nv " << x + a << ' ' << y << ' ' << z - a << "\nv " << x + a
+          << ' ' << y << ' ' << z + a << "\nv " << x - a << ' ' << y << ' ' << z + a << "\nf " << n + 1 << ' ' << n + 2
+          << ' ' << n + 3 << ' ' << n + 4 << '\n';
       n += 4;
     }
   }
   std::ofstream(dir / "lamps.obj") << obj.str();
   std::ofstream(dir / "lamps.mtl") << "newmtl floor\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+}
+
+// 400 small lamps over a floor, each in a group of its own
+// (docs/robustness.md, "Budgets"): each lamp's first links reach the floor's initial vertices
+// whatever the budget, or its light would be lost, so under --max-memory 1M
+// the data ends over it (6 MB) without any refinement being refused. The run
+// must say so, in stats.json and in a warning naming both sizes; it said
+// nothing before.
+TEST(Budgets, FirstLinksOverTheMemoryBudgetAreReportedAndWarned) {
+  const auto dir = test::fresh_dir("budget_lamps");
+  write_lamps(dir, true);
   std::string err;
   const nlohmann::json stats = solve_file(dir / "lamps.obj", "budget_lamps_out", {"--max-memory", "1M"}, &err);
   EXPECT_TRUE(stats["memory_budget_reached"].get<bool>());
@@ -315,6 +325,32 @@ TEST(Budgets, FirstLinksOverTheMemoryBudgetAreReportedAndWarned) {
   EXPECT_GE(stats["links"].get<std::size_t>(), 400u);
   EXPECT_NE(err.find("warning: the radiosity data ended at"), std::string::npos) << err;
   EXPECT_NE(err.find("over --max-memory (1 MiB)"), std::string::npos) << err;
+}
+
+// The same 400 lamps in one plane are one shooter (docs/design.md §3, "Panels
+// of lights"): one graph on the floor, whose links open the panel's clusters
+// only where the floor needs them. As 400 shooters their first links alone
+// (6 MB) were over a 4M budget before anything was refined; as one the whole
+// solve fits in it, refined. (That a panel delivers each lamp's power is
+// SmallLights.APanelOfSmallLightsIsOneSurfaceThatDeliversEachLampsPower.)
+TEST(Budgets, CoplanarLampsAreOneShooterAndStayWithinTheMemoryBudget) {
+  constexpr double kBudget = 4.0 * 1024 * 1024;
+  const auto separate_dir = test::fresh_dir("budget_lamps_apart");
+  write_lamps(separate_dir, true);
+  std::string err;
+  const nlohmann::json separate =
+      solve_file(separate_dir / "lamps.obj", "budget_lamps_apart_out", {"--max-memory", "4M", "--max-links", "1"}, &err);
+  EXPECT_EQ(separate["surfaces"].get<int>(), 401);
+  EXPECT_GT(separate["bytes"]["total"].get<double>(), kBudget) << "the premise: 400 shooters' first links";
+
+  const auto panel_dir = test::fresh_dir("budget_lamp_panel");
+  write_lamps(panel_dir, false);
+  const nlohmann::json panel = solve_file(panel_dir / "lamps.obj", "budget_lamp_panel_out", {"--max-memory", "4M"}, &err);
+  EXPECT_EQ(panel["surfaces"].get<int>(), 2);
+  EXPECT_LE(panel["bytes"]["total"].get<double>(), kBudget);
+  EXPECT_EQ(err.find("the radiosity data ended at"), std::string::npos) << err;
+  // Refined past the first links (520: one per initial floor vertex).
+  EXPECT_GT(panel["links"].get<std::size_t>(), 2000u) << err;
 }
 
 TEST(Budgets, MaxMemoryTakesSizesAndRejectsNonsense) {

@@ -126,8 +126,7 @@ struct WallResult {
 
 // ∫ L dA of the wall as exported: every triangle's area times the mean of its
 // three vertex radiances (the piecewise-linear function users get).
-WallResult solve_wall(const SmallLight& light, SolveMethod method) {
-  const Scene scene = small_light_scene(light);
+WallResult solve_wall(const Scene& scene, double light_height, SolveMethod method) {
   SolveSettings settings;
   settings.method = method;
   settings.meshing.max_edge = default_max_edge(scene);
@@ -137,7 +136,7 @@ WallResult solve_wall(const SmallLight& light, SolveMethod method) {
   WallResult out;
   for (const auto& t : mesh.triangles) {
     const Vec3 &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]];
-    if (std::max({a[2], b[2], c[2]}) > 0.5 * light.height) continue;  // the light's own faces
+    if (std::max({a[2], b[2], c[2]}) > 0.5 * light_height) continue;  // the lights' own faces
     const double area = 0.5 * OpenMesh::cross(b - a, c - a).norm();
     double mean = 0.0;
     for (int k = 0; k < 3; ++k) mean += luminance(mesh.radiance[t[k]]) / 3.0;
@@ -157,9 +156,46 @@ TEST_P(SmallLights, BothMethodsConserveTheLightsPowerOnTheWall) {
   const double exact = kRho * light.radiance() * wall_integral;
   ASSERT_LE(exact, kRho * (1.0 + 1e-6)) << "at most the light's whole power reaches the wall";
   for (SolveMethod method : {SolveMethod::kLinear, SolveMethod::kClassical}) {
-    const WallResult r = solve_wall(light, method);
+    const WallResult r = solve_wall(small_light_scene(light), light.height, method);
     EXPECT_NEAR(r.integral, exact, 0.03 * exact) << method_name(method) << ": ∫L dA / exact = " << r.integral / exact;
     EXPECT_LE(r.brightest, kRho * light.radiance() * (1.0 + 1e-6)) << method_name(method);
+  }
+}
+
+// A panel of small lights (docs/design.md §3, "Panels of lights"): sixteen
+// lamps of side 0.1 at height 0.1, each of radiance 1/a², about two metres
+// apart and off the wall's initial vertices, are one surface, which shoots
+// first as one cluster. Its links must open down to each lamp where the wall
+// is near it, so ∫L dA is still the sum of the lamps' exact integrals and no
+// point is brighter than one lamp can make it, with both methods.
+TEST(SmallLights, APanelOfSmallLightsIsOneSurfaceThatDeliversEachLampsPower) {
+  std::vector<SmallLight> lamps;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) lamps.push_back({0.1, 0.1, 2.3 + 1.9 * i + 0.07 * j, 2.1 + 2.0 * j + 0.05 * i});
+  }
+  PolygonSoup soup;
+  Material wall;
+  wall.name = "wall";
+  wall.reflectance = Rgb(kRho, kRho, kRho);
+  Material lamp;
+  lamp.name = "light";
+  lamp.reflectance = Rgb(0, 0, 0);
+  lamp.emission = Rgb(lamps[0].radiance(), lamps[0].radiance(), lamps[0].radiance());
+  soup.materials = {wall, lamp};
+  soup.groups = {"wall", "lights"};
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(kWall, 0, 0), Vec3(kWall, kWall, 0), Vec3(0, kWall, 0), 0, 0);
+  double exact = 0.0;
+  for (const SmallLight& l : lamps) {
+    const std::array<Vec3, 4> p = l.polygon();
+    test::add_quad(soup, p[0], p[1], p[2], p[3], 1, 1);
+    exact += kRho * l.radiance() * exact_wall_integral(l, 6);
+  }
+  const Scene scene = test::scene_from_soup(soup, "panel of small lights");
+  ASSERT_EQ(scene.surfaces.size(), 2u) << "the sixteen lamps are one surface";
+  for (SolveMethod method : {SolveMethod::kLinear, SolveMethod::kClassical}) {
+    const WallResult r = solve_wall(scene, lamps[0].height, method);
+    EXPECT_NEAR(r.integral, exact, 0.03 * exact) << method_name(method) << ": ∫L dA / exact = " << r.integral / exact;
+    EXPECT_LE(r.brightest, kRho * lamps[0].radiance() * (1.0 + 1e-6)) << method_name(method);
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "mesh/surfaces.hpp"
 
@@ -60,6 +61,47 @@ TEST(SurfaceSplit, SlightlyBentSurfaceIsNotPlanar) {
   ASSERT_EQ(split.surfaces.size(), 1u);
   EXPECT_FALSE(split.surfaces[0].planar);
   EXPECT_EQ(split_into_surfaces(soup, 1.0).surfaces.size(), 2u);
+}
+
+TEST(SurfaceSplit, CoplanarPiecesOfALightThatReflectsNothingShootAsOneSurface) {
+  // Unit squares, none touching another. Four lamps (material 0: emits,
+  // reflects nothing) at z = 2 facing down, in group 0, join into one planar
+  // surface. Each of the others differs from them in one way and stays a
+  // surface of its own: a lamp 10⁻³ higher, a lamp facing up, a lamp of
+  // group 1, and two coplanar pieces of a light that also reflects
+  // (material 1), which would receive and must stay continuous per piece.
+  PolygonSoup soup;
+  Material lamp, glowing;
+  lamp.reflectance = Rgb(0, 0, 0);
+  lamp.emission = Rgb(1, 1, 1);
+  glowing.reflectance = Rgb(0.5, 0.5, 0.5);
+  glowing.emission = Rgb(1, 1, 1);
+  soup.materials = {lamp, glowing};
+  soup.groups = {"g", "h"};
+  const auto add_square = [&](double x, double y, double z, bool down, int material, int group) {
+    const int n = static_cast<int>(soup.points.size());
+    soup.points.insert(soup.points.end(), {{x, y, z}, {x + 1, y, z}, {x + 1, y + 1, z}, {x, y + 1, z}});
+    std::vector<int> face = down ? std::vector<int>{n, n + 3, n + 2, n + 1} : std::vector<int>{n, n + 1, n + 2, n + 3};
+    soup.faces.push_back({face, material, group, static_cast<int>(soup.faces.size()) + 1});
+  };
+  for (int i = 0; i < 4; ++i) add_square(2.0 * i, 0, 2, true, 0, 0);
+  add_square(0, 4, 2.001, true, 0, 0);
+  add_square(2, 4, 2, false, 0, 0);
+  add_square(4, 4, 2, true, 0, 1);
+  add_square(0, 8, 2, true, 1, 0);
+  add_square(2, 8, 2, true, 1, 0);
+  const SurfaceSplit split = split_into_surfaces(soup, 30.0);
+  ASSERT_EQ(split.surfaces.size(), 6u);
+  const Surface& panel = split.surfaces[0];
+  EXPECT_EQ(panel.polygons.size(), 4u);
+  EXPECT_EQ(panel.points.size(), 16u);
+  EXPECT_TRUE(panel.planar);
+  EXPECT_NEAR(panel.normal[2], -1.0, 1e-12);
+  EXPECT_NEAR(panel.area, 4.0, 1e-12);
+  for (std::size_t s = 1; s < split.surfaces.size(); ++s) {
+    EXPECT_EQ(split.surfaces[s].polygons.size(), 1u) << split.surfaces[s].name;
+    EXPECT_TRUE(split.surfaces[s].planar) << split.surfaces[s].name;
+  }
 }
 
 }  // namespace

@@ -374,6 +374,40 @@ TEST_F(BenchCommand, WithoutGnuplotWritesTheScriptAndWarnsOnce) {
   EXPECT_FALSE(std::filesystem::exists(out / "accuracy_vs_seconds.png"));
 }
 
+// The sweep's own code on the smallest plan, fast enough to run sanitized
+// (SweepsWritesTheDocumentedCsvAndChartsThenResumes checks its numbers on a
+// larger one, in release only): a classical run and a path-traced one, the
+// charts drawn by gnuplot, a second command that reuses both runs and the
+// reference, and a time limit already spent.
+TEST_F(BenchCommand, ASmallSweepDrawsItsChartsReusesItsRunsAndKeepsItsTimeLimit) {
+  const std::filesystem::path out = *dir_ / "s";
+  const auto args = [&](const std::string& spp, std::vector<std::string> extra) {
+    std::vector<std::string> a{"bench", (*dir_ / "tiny.scene.json").string(), "--out", out.string(), "--methods",
+                               "classical,path", "--classical", "0.5", "--spp", spp, "--reference-noise", "0.05",
+                               "--reference-max-spp", "16", "--max-edge", "140"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  const auto first = test::run_lhr(args("4", {}));
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_NE(first.err.find("[1/2] classical eps_bf=0.5 ... "), std::string::npos) << first.err;
+  const std::string csv = test::read_text(out / "bench.csv");
+  EXPECT_EQ(split(csv, '\n').size(), 4u) << csv;  // header, two runs, the end of the last line
+  for (const char* chart : {"accuracy_vs_links.png", "accuracy_vs_seconds.png", "accuracy_vs_memory.png"}) {
+    EXPECT_TRUE(is_png(out / chart)) << chart;
+  }
+  const auto again = test::run_lhr(args("4", {}));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.err.find(" ... "), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("[2/2] path spp=4: done earlier"), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("(made earlier; delete it for a new one)"), std::string::npos) << again.err;
+  EXPECT_EQ(test::read_text(out / "bench.csv"), csv);
+  const auto limited = test::run_lhr(args("4,8", {"--max-seconds", "0.000001"}));
+  ASSERT_EQ(limited.exit_code, 0) << limited.err;
+  EXPECT_NE(limited.err.find("not run (1): path spp=8"), std::string::npos) << limited.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "runs" / "path-8"));
+}
+
 TEST_F(BenchCommand, HelpDocumentsEveryColumnAndBadListsFailInOneLine) {
   const auto help = test::run_lhr({"bench", "--help"});
   ASSERT_EQ(help.exit_code, 0);

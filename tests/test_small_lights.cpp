@@ -41,9 +41,9 @@ struct SmallLight {
   }
 };
 
-// The wall (surface group 0, z = 0, facing +z) and the light (group 1) over
-// it, facing down.
-Scene small_light_scene(const SmallLight& light) {
+// The wall (surface group 0, z = 0, facing +z) and the lights (group 1, one
+// material: the first light's radiance) over it, facing down.
+Scene small_lights_scene(const std::vector<SmallLight>& lights) {
   PolygonSoup soup;
   Material wall;
   wall.name = "wall";
@@ -51,13 +51,16 @@ Scene small_light_scene(const SmallLight& light) {
   Material lamp;
   lamp.name = "light";
   lamp.reflectance = Rgb(0, 0, 0);
-  lamp.emission = Rgb(light.radiance(), light.radiance(), light.radiance());
+  const double radiance = lights.front().radiance();
+  lamp.emission = Rgb(radiance, radiance, radiance);
   soup.materials = {wall, lamp};
   soup.groups = {"wall", "light"};
   test::add_quad(soup, Vec3(0, 0, 0), Vec3(kWall, 0, 0), Vec3(kWall, kWall, 0), Vec3(0, kWall, 0), 0, 0);
-  const std::array<Vec3, 4> p = light.polygon();
-  test::add_quad(soup, p[0], p[1], p[2], p[3], 1, 1);
-  return test::scene_from_soup(soup, "small light");
+  for (const SmallLight& light : lights) {
+    const std::array<Vec3, 4> p = light.polygon();
+    test::add_quad(soup, p[0], p[1], p[2], p[3], 1, 1);
+  }
+  return test::scene_from_soup(soup, "small lights");
 }
 
 // Gauss–Legendre nodes and weights on [−1, 1].
@@ -156,7 +159,7 @@ TEST_P(SmallLights, BothMethodsConserveTheLightsPowerOnTheWall) {
   const double exact = kRho * light.radiance() * wall_integral;
   ASSERT_LE(exact, kRho * (1.0 + 1e-6)) << "at most the light's whole power reaches the wall";
   for (SolveMethod method : {SolveMethod::kLinear, SolveMethod::kClassical}) {
-    const WallResult r = solve_wall(small_light_scene(light), light.height, method);
+    const WallResult r = solve_wall(small_lights_scene({light}), light.height, method);
     EXPECT_NEAR(r.integral, exact, 0.03 * exact) << method_name(method) << ": ∫L dA / exact = " << r.integral / exact;
     EXPECT_LE(r.brightest, kRho * light.radiance() * (1.0 + 1e-6)) << method_name(method);
   }
@@ -173,24 +176,9 @@ TEST(SmallLights, APanelOfSmallLightsIsOneSurfaceThatDeliversEachLampsPower) {
   for (int i = 0; i < 4; ++i) {
     for (int j = 0; j < 4; ++j) lamps.push_back({0.1, 0.1, 2.3 + 1.9 * i + 0.07 * j, 2.1 + 2.0 * j + 0.05 * i});
   }
-  PolygonSoup soup;
-  Material wall;
-  wall.name = "wall";
-  wall.reflectance = Rgb(kRho, kRho, kRho);
-  Material lamp;
-  lamp.name = "light";
-  lamp.reflectance = Rgb(0, 0, 0);
-  lamp.emission = Rgb(lamps[0].radiance(), lamps[0].radiance(), lamps[0].radiance());
-  soup.materials = {wall, lamp};
-  soup.groups = {"wall", "lights"};
-  test::add_quad(soup, Vec3(0, 0, 0), Vec3(kWall, 0, 0), Vec3(kWall, kWall, 0), Vec3(0, kWall, 0), 0, 0);
   double exact = 0.0;
-  for (const SmallLight& l : lamps) {
-    const std::array<Vec3, 4> p = l.polygon();
-    test::add_quad(soup, p[0], p[1], p[2], p[3], 1, 1);
-    exact += kRho * l.radiance() * exact_wall_integral(l, 6);
-  }
-  const Scene scene = test::scene_from_soup(soup, "panel of small lights");
+  for (const SmallLight& l : lamps) exact += kRho * l.radiance() * exact_wall_integral(l, 6);
+  const Scene scene = small_lights_scene(lamps);
   ASSERT_EQ(scene.surfaces.size(), 2u) << "the sixteen lamps are one surface";
   for (SolveMethod method : {SolveMethod::kLinear, SolveMethod::kClassical}) {
     const WallResult r = solve_wall(scene, lamps[0].height, method);

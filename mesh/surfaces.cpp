@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/rgb.hpp"
 #include "mesh/union_find.hpp"
 
 namespace lhr {
@@ -128,9 +129,9 @@ void unite_light_panels(const PolygonSoup& soup, const std::vector<std::vector<i
                         const std::vector<bool>& kept, UnionFind& components) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const auto panel_material = [&](int m) {
+    // Black as the solvers judge a receiver that reflects nothing.
     const Material& material = soup.materials.at(m);
-    return material.is_emitter() && material.reflectance[0] == 0.0 && material.reflectance[1] == 0.0 &&
-           material.reflectance[2] == 0.0;
+    return material.is_emitter() && !(max_channel(material.reflectance) > 0);
   };
   struct Piece {
     std::vector<int> faces;

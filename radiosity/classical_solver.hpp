@@ -27,6 +27,7 @@
 #include "radiosity/element_floor.hpp"
 #include "radiosity/meshed_scene.hpp"
 #include "radiosity/solver_frame.hpp"
+#include "radiosity/transport.hpp"
 
 namespace lhr {
 
@@ -103,6 +104,12 @@ class ClassicalSolver {
     std::vector<std::vector<Link>> links;  // per node: links this node receives
     // A cluster's radiance: its emission + reflected power / (π exposed_area).
     SurfaceClusters clusters;
+    // The roots' geometry and, on a planar surface, each cluster's outline:
+    // a large cluster's form factor from its outline and its shadow rays
+    // drawn by cheap estimates, not every root's exact form factor
+    // (docs/design.md, "Cluster outlines").
+    ShooterTriangleTable roots;
+    ClusterOutlines outlines;
     // How far each node's one value is from the leaves it stands for
     // (shooter_spread.hpp).
     std::vector<Rgb> node_spread;

@@ -502,6 +502,19 @@ TransportCoefficients disc_drawn_transport(const ReceiverPoint& receiver, double
 
 }  // namespace
 
+void drawing_form_factor_sums(const Vec3& x, const Vec3& n, const ShooterTriangles& triangles,
+                              std::vector<double>& sums) {
+  sums.clear();
+  if (triangles.size() == 0) return;
+  const ShooterTriangleTable& table = *triangles.table;
+  const Vec3 m = table.normal[triangles.row(0)];
+  double sum = 0.0;
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    sum += disc_form_factors(x, n, m, table, triangles.row(j), nullptr).weighing;
+    sums.push_back(sum);
+  }
+}
+
 TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, double ff,
                                                const ShooterTriangles& triangles, const RayCaster& rays,
                                                const TransportSampling& sampling, std::uint64_t& ray_count,

@@ -140,6 +140,14 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
 //   its exact clipped form factor; below, nothing.
 enum class ShooterHorizon { kUnknown, kAbove, kCrossing };
 
+// Running sums, over a planar shooter's triangles in order, of the cheap
+// stand-ins for their form factors from x that cluster links draw shadow
+// rays by: a disc's beyond two triangle sizes, the exact value within
+// (planar_shooter_transport's weights for a shooter wholly above x's
+// horizon). Cleared and refilled.
+void drawing_form_factor_sums(const Vec3& x, const Vec3& n, const ShooterTriangles& triangles,
+                              std::vector<double>& sums);
+
 // The same for any planar constant-basis shooter whose exact unoccluded form
 // factor `ff` from the receiver is known (a cluster's, from its outline):
 // shadow rays drawn by disc_form_factors, as `horizon` says.

@@ -186,8 +186,12 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
     // so that the visible fraction is the exact-weighted one it was when
     // every root's exact form factor drew the rays. On a panel of 20 000
     // lamps those form factors were most of the solve.
+    const std::size_t count = std::max<std::size_t>(receiver_vis.size(), kSurfaceSamples);
+    // Where the rays land on most of the roots anyway, each root's exact form
+    // factor costs no more than the outline, the estimates and the roots hit.
     bool estimated = false;
-    if (!st.outlines.start.empty() && !st.outlines.of(cluster_index(shooter)).empty()) {
+    if (c.roots.size() >= 4 * count && !st.outlines.start.empty() &&
+        !st.outlines.of(cluster_index(shooter)).empty()) {
       const TriMesh& mesh = model_.hierarchy(shooter.surface).mesh();
       bool clipped = false;
       const std::optional<double> outline_ff =
@@ -210,8 +214,9 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
       }
     }
     if (!(ff > 0.0)) return 0.0f;
-    const std::size_t count = std::max<std::size_t>(receiver_vis.size(), kSurfaceSamples);
     const double offset = unit_double(sample_key(key, 3));
+    std::size_t weighed_root = c.roots.size();
+    double root_weight = 1.0;
     for (std::size_t i = 0; i < count; ++i) {
       const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * cumulative.back();
       const std::size_t j = std::min(static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u) -
@@ -221,8 +226,13 @@ float ClassicalSolver::coefficient(const Element& receiver, const Element& shoot
       const auto triangle = model_.triangle(shooter.surface, r);
       double weight = 1.0;
       if (estimated) {
-        const double drawn = cumulative[j] - (j > 0 ? cumulative[j - 1] : 0.0);
-        weight = drawn > 0.0 ? point_triangle_form_factor(x, nx, triangle) / drawn : 0.0;
+        // Systematic draws come in root order: a root drawn again is the last one.
+        if (j != weighed_root) {
+          const double drawn = cumulative[j] - (j > 0 ? cumulative[j - 1] : 0.0);
+          root_weight = drawn > 0.0 ? point_triangle_form_factor(x, nx, triangle) / drawn : 0.0;
+          weighed_root = j;
+        }
+        weight = root_weight;
       }
       const TriangleSample ts = uniform_triangle_sample(sample_key(key, 4 + i));
       add_pair(receiver_vis[i % receiver_vis.size()], {at(triangle, ts), model_.normal(shooter.surface, r)}, weight);

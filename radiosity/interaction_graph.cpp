@@ -197,6 +197,27 @@ void InteractionGraph::pack_links() {
   first_ = std::move(first);
 }
 
+std::size_t InteractionGraph::drop_links(const std::function<bool(const GraphLink&)>& drop) {
+  pack_links();
+  std::vector<GraphLink> kept;
+  CompactUints first;
+  first.reserve(first_.size());
+  first.push_back(0);
+  for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
+    for (std::size_t k = first_[i]; k < first_[i + 1]; ++k) {
+      if (!drop(links_[k])) kept.push_back(links_[k]);
+    }
+    first.push_back(static_cast<std::uint32_t>(kept.size()));
+  }
+  const std::size_t dropped = links_.size() - kept.size();
+  if (dropped > 0) {
+    kept.shrink_to_fit();
+    links_ = std::move(kept);
+    first_ = std::move(first);
+  }
+  return dropped;
+}
+
 std::size_t InteractionGraph::num_links() const {
   std::size_t n = links_.size();
   if (!growing_) return n;

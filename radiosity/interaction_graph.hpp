@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -104,6 +105,9 @@ class InteractionGraph {
   void set_links(int i, std::span<const GraphLink> links);
   // Vertex i's links become `links`, whatever it held (coarsened links).
   void replace_links(int i, std::span<const GraphLink> links);
+  // Drops every link `drop` holds true for, in one pass over the packed
+  // links; returns how many went. A vertex may be left with none.
+  std::size_t drop_links(const std::function<bool(const GraphLink&)>& drop);
   // Puts the lists that grew since the last call back into the one array,
   // each vertex's links in their order, and gives back the room the tables
   // grew into during the pass.

@@ -317,6 +317,17 @@ bool LinearSolver::link_new_shooters() {
   graphs_.erase(graphs_.begin() + static_cast<std::ptrdiff_t>(kept), graphs_.end());
   unoccluded_at_.resize(kept);
   facet_spread_at_.resize(kept);
+  // A first link whose vertex sees none of S at all, not even unoccluded
+  // (the vertex lies behind S's plane, or S below its horizon), carries
+  // nothing and never will: the oracles judge it zero and push() reads an
+  // unoccluded form factor of zero from it, as from no link. Among many
+  // objects most first links are such (a thousand boxes: 8.7 M of 21.2 M),
+  // so they are not kept. A split seeds such a vertex's new neighbours
+  // with the whole surface again (seed_vertices).
+  tbb::parallel_for(first_new, graphs_.size(), [&](std::size_t g) {
+    graphs_[g].drop_links(
+        [](const GraphLink& l) { return !(l.coefficients.unoccluded > 0.0f) && !(l.coefficients.visible() > 0.0f); });
+  });
   for (SurfaceState& st : surfaces_) st.graphs_in.clear();
   for (std::size_t g = 0; g < graphs_.size(); ++g) {
     surfaces_[graphs_[g].receiver_surface()].graphs_in.push_back(static_cast<int>(g));

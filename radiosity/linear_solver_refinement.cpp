@@ -101,6 +101,8 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
     // §3: 9 new coefficients per receiver split, not 36).
     std::vector<GraphLink> links;
     for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}});
+    // A seed that saw none of S kept no first link (link_new_shooters).
+    if (links.empty()) links.push_back({kWholeSurface, {}});
     for (std::size_t t = 0; t < links.size(); ++t) pending.push_back({gi, nv.index, t});
     links_now_ += links.size();
     g.set_links(nv.index, links);

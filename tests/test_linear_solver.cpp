@@ -206,6 +206,63 @@ TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
   EXPECT_GT(off_edge, 20u);
 }
 
+TEST(LinearSolver, VerticesBehindAShooterKeepNoFirstLinkAndTheirNeighboursStillSeeIt) {
+  // An emitting wall (y = 0, facing +y, Kd 0) stands across the middle of a
+  // 2 × 2 floor (z = 0, ρ 0.5). Floor vertices behind the wall's plane see
+  // none of it: they keep no first link (link_new_shooters), and a vertex a
+  // split makes in front of the plane from such a seed still gets the wall
+  // (seed_vertices), so every vertex in front reads ρ Le F exactly.
+  PolygonSoup soup;
+  soup.materials = {test::grey_material("floor", 0.5), test::grey_material("wall", 0.0, 1.0)};
+  soup.groups = {"floor", "wall"};
+  test::add_quad(soup, Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0), 0, 0);
+  test::add_quad(soup, Vec3(-0.5, 0, 0), Vec3(-0.5, 0, 1), Vec3(0.5, 0, 1), Vec3(0.5, 0, 0), 1, 1);
+  const Scene scene = test::scene_from_soup(soup, "wall across a floor");
+  MeshingOptions meshing;
+  meshing.max_edge = 0.25;
+  MeshedScene model(scene, meshing);
+  LinearOptions options;
+  options.eps_link = 5.0;
+  LinearSolver solver(model, options);
+  solver.solve();
+  const int floor = model.material(0).reflectance[0] > 0 ? 0 : 1;
+  const SurfaceHierarchy& h = model.hierarchy(floor);
+  std::size_t behind = 0, in_front = 0, initial = 0;
+  for (const InteractionGraph& g : solver.graphs()) {
+    if (g.receiver_surface() != floor) continue;
+    initial = g.start().index.size();
+    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+      const double y = h.point(g.vertex(i))[1];
+      if (y < -1e-9) {
+        // A split's vertex behind the plane starts from the whole wall again
+        // and keeps that link, as every later vertex does.
+        if (static_cast<std::size_t>(g.vertex(i)) >= initial) continue;
+        EXPECT_TRUE(g.links(i).empty()) << "an initial vertex behind the wall at y = " << y << " holds links";
+        ++behind;
+      } else if (y > 1e-9) {
+        EXPECT_FALSE(g.links(i).empty()) << "a vertex in front of the wall at y = " << y << " holds none";
+        ++in_front;
+      }
+    }
+  }
+  EXPECT_GT(behind, 20u);
+  EXPECT_GT(in_front, 20u);
+  const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
+  std::size_t split_in_front = 0;
+  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+    const Vec3 x = h.point(v);
+    const double got = solver.vertex_radiance(floor)[v][0];
+    if (x[1] < -1e-9) {
+      EXPECT_EQ(got, 0.0) << "vertex at " << x;
+    } else if (x[1] > 0.01) {
+      const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), wall);
+      EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex at " << x;
+      if (static_cast<std::size_t>(v) >= initial) ++split_in_front;
+    }
+  }
+  EXPECT_GT(split_in_front, 10u) << "splits in front of the wall";
+}
+
 TEST(LinearSolver, FloorUnderABoxIsDarkAndItsFootIsLitFromTheOpenSide) {
   // A black open-bottomed box stands on a unit floor (z = 0, ρ 0.5), a
   // square light (Kd 0, Le 1) hangs to one side of it. Under the box the

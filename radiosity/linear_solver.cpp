@@ -18,6 +18,14 @@
 
 namespace lhr {
 
+namespace {
+
+// First links computed and trimmed at a time (link_new_shooters): enough
+// for every core, few beside a scene's data.
+constexpr std::size_t kFirstLinkBatch = std::size_t{1} << 20;
+
+}  // namespace
+
 int LinearSolver::initial_ancestors(const std::vector<std::array<VertexId, 2>>& parents, VertexId v,
                                     std::array<VertexId, 3>& ancestors) {
   int found = 0;
@@ -244,7 +252,6 @@ bool LinearSolver::link_new_shooters() {
   PhaseTimer timer(stats_.seconds_linking);
   const Scene& scene = model_.scene();
   const double eps = 1e-9 * model_.rays().diagonal();
-  std::vector<PendingLink> pending;
   // Surfaces not yet shooting, dimmest first: those whose powers sum to less
   // than link_power of the emitted power stay out for now. A threshold on
   // each surface alone would drop the light of every small surface of a
@@ -268,27 +275,7 @@ bool LinearSolver::link_new_shooters() {
     }
   }
   stats_.power_left_out = total_emitted_power_ > 0 ? kept_out / total_emitted_power_ : 0.0;
-  const std::size_t first_new = graphs_.size();
-  for (int s = 0; s < model_.num_surfaces(); ++s) {
-    SurfaceState& st = surfaces_[s];
-    if (!starts[s]) continue;
-    st.shooting = true;
-    for (int r = 0; r < model_.num_surfaces(); ++r) {
-      // A planar surface does not light itself; a curved one does (the inside
-      // of a sphere lights the rest of it). A black receiver reflects nothing.
-      if ((r == s && scene.surfaces[s].planar) || !(max_channel(model_.material(r).reflectance) > 0)) continue;
-      if (!may_exchange_light(scene.surfaces[s], scene.surfaces[r], eps)) continue;
-      const int g = static_cast<int>(graphs_.size());
-      if (starts_.size() < surfaces_.size()) starts_.resize(surfaces_.size());
-      if (!starts_[r]) starts_[r] = std::make_shared<const InteractionGraph::Start>(model_.hierarchy(r));
-      graphs_.emplace_back(s, r, starts_[r]);
-      InteractionGraph& graph = graphs_.back();
-      graph.set_every_vertex_link({kWholeSurface, {}});
-      for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) pending.push_back({g, i, 0});
-    }
-  }
   timer.stop();
-  compute_coefficients(pending);
   // Only pairs that exchange energy keep a graph (paper §5): surfaces facing
   // each other across a wall, say, see nothing of each other.
   const auto exchanges = [](const InteractionGraph& g) {
@@ -299,41 +286,80 @@ bool LinearSolver::link_new_shooters() {
     }
     return false;
   };
-  // The per-graph form factor cache moves with its graph. Graphs linked in
-  // earlier iterations keep their index: the per-graph importance refers to
-  // them by it until the next importance pass.
-  unoccluded_at_.resize(graphs_.size());
-  facet_spread_at_.resize(graphs_.size());
-  std::size_t kept = first_new;
-  for (std::size_t g = first_new; g < graphs_.size(); ++g) {
-    if (!exchanges(graphs_[g])) continue;
-    if (kept != g) {
-      graphs_[kept] = std::move(graphs_[g]);
-      unoccluded_at_[kept] = std::move(unoccluded_at_[g]);
-      facet_spread_at_[kept] = std::move(facet_spread_at_[g]);
+  // The shooters are linked in batches of about kFirstLinkBatch first
+  // links, each batch's graphs judged and trimmed before the next is made:
+  // made at once, a thousand boxes' first links with the graphs that
+  // exchange nothing were a passing gigabyte over the data they left.
+  // Each link's coefficients depend on it alone, so the result is the same.
+  std::vector<PendingLink> pending;
+  bool linked = false;
+  const auto finish_batch = [&](std::size_t first) {
+    compute_coefficients(pending);
+    linked |= !pending.empty();
+    pending.clear();
+    // The per-graph form factor cache moves with its graph. Graphs linked in
+    // earlier iterations keep their index: the per-graph importance refers to
+    // them by it until the next importance pass.
+    unoccluded_at_.resize(graphs_.size());
+    facet_spread_at_.resize(graphs_.size());
+    std::size_t kept = first;
+    for (std::size_t g = first; g < graphs_.size(); ++g) {
+      if (!exchanges(graphs_[g])) continue;
+      if (kept != g) {
+        graphs_[kept] = std::move(graphs_[g]);
+        unoccluded_at_[kept] = std::move(unoccluded_at_[g]);
+        facet_spread_at_[kept] = std::move(facet_spread_at_[g]);
+      }
+      ++kept;
     }
-    ++kept;
+    graphs_.erase(graphs_.begin() + static_cast<std::ptrdiff_t>(kept), graphs_.end());
+    unoccluded_at_.resize(kept);
+    facet_spread_at_.resize(kept);
+    // A first link whose vertex sees none of S at all, not even unoccluded
+    // (the vertex lies behind S's plane, or S below its horizon), carries
+    // nothing and never will: the oracles judge it zero and push() reads an
+    // unoccluded form factor of zero from it, as from no link. Among many
+    // objects most first links are such (a thousand boxes: 8.7 M of 21.2 M),
+    // so they are not kept. A split seeds such a vertex's new neighbours
+    // with the whole surface again (seed_vertices).
+    tbb::parallel_for(first, graphs_.size(), [&](std::size_t g) {
+      graphs_[g].drop_links(
+          [](const GraphLink& l) { return !(l.coefficients.unoccluded > 0.0f) && !(l.coefficients.visible() > 0.0f); });
+    });
+  };
+  std::size_t batch_first = graphs_.size();
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    SurfaceState& st = surfaces_[s];
+    if (!starts[s]) continue;
+    st.shooting = true;
+    {
+      PhaseTimer making(stats_.seconds_linking);
+      for (int r = 0; r < model_.num_surfaces(); ++r) {
+        // A planar surface does not light itself; a curved one does (the inside
+        // of a sphere lights the rest of it). A black receiver reflects nothing.
+        if ((r == s && scene.surfaces[s].planar) || !(max_channel(model_.material(r).reflectance) > 0)) continue;
+        if (!may_exchange_light(scene.surfaces[s], scene.surfaces[r], eps)) continue;
+        const int g = static_cast<int>(graphs_.size());
+        if (starts_.size() < surfaces_.size()) starts_.resize(surfaces_.size());
+        if (!starts_[r]) starts_[r] = std::make_shared<const InteractionGraph::Start>(model_.hierarchy(r));
+        graphs_.emplace_back(s, r, starts_[r]);
+        InteractionGraph& graph = graphs_.back();
+        graph.set_every_vertex_link({kWholeSurface, {}});
+        for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) pending.push_back({g, i, 0});
+      }
+    }
+    if (pending.size() >= kFirstLinkBatch) {
+      finish_batch(batch_first);
+      batch_first = graphs_.size();
+    }
   }
-  graphs_.erase(graphs_.begin() + static_cast<std::ptrdiff_t>(kept), graphs_.end());
-  unoccluded_at_.resize(kept);
-  facet_spread_at_.resize(kept);
-  // A first link whose vertex sees none of S at all, not even unoccluded
-  // (the vertex lies behind S's plane, or S below its horizon), carries
-  // nothing and never will: the oracles judge it zero and push() reads an
-  // unoccluded form factor of zero from it, as from no link. Among many
-  // objects most first links are such (a thousand boxes: 8.7 M of 21.2 M),
-  // so they are not kept. A split seeds such a vertex's new neighbours
-  // with the whole surface again (seed_vertices).
-  tbb::parallel_for(first_new, graphs_.size(), [&](std::size_t g) {
-    graphs_[g].drop_links(
-        [](const GraphLink& l) { return !(l.coefficients.unoccluded > 0.0f) && !(l.coefficients.visible() > 0.0f); });
-  });
+  finish_batch(batch_first);
   for (SurfaceState& st : surfaces_) st.graphs_in.clear();
   for (std::size_t g = 0; g < graphs_.size(); ++g) {
     surfaces_[graphs_[g].receiver_surface()].graphs_in.push_back(static_cast<int>(g));
   }
   links_now_ = count_links();
-  return !pending.empty();
+  return linked;
 }
 
 Rgb LinearSolver::gathered(const InteractionGraph& g, int i) const {

@@ -112,8 +112,19 @@ void ClassicalSolver::link_surfaces() {
   const Scene& scene = model_.scene();
   const double eps = 1e-9 * model_.rays().diagonal();
   std::vector<PendingLink> pending;
+  // Finished in batches of about kPendingChunk × 16 pairs, in the order of
+  // one pass: all pairs at once were 24 bytes each before any was judged (a
+  // thousand boxes: 1.2 GB, most of it the floor's roots and every box).
+  const auto finish = [&] {
+    compute_coefficients(pending);
+    for (const PendingLink& p : pending) {
+      if (p.form_factor > 0.0f) links_of(p.receiver).push_back({p.shooter, p.form_factor, p.oracle});
+    }
+    pending.clear();
+  };
   for (int r = 0; r < model_.num_surfaces(); ++r) {
     for (int s = 0; s < model_.num_surfaces(); ++s) {
+      if (pending.size() >= 16 * kPendingChunk) finish();
       // A planar surface does not light itself; a curved one does. Its
       // elements see the faces through their own centre edge-on (form
       // factor 0), so a link never carries an element's own light back.
@@ -131,10 +142,7 @@ void ClassicalSolver::link_surfaces() {
       }
     }
   }
-  compute_coefficients(pending);
-  for (const PendingLink& p : pending) {
-    if (p.form_factor > 0.0f) links_of(p.receiver).push_back({p.shooter, p.form_factor, p.oracle});
-  }
+  finish();
 }
 
 float ClassicalSolver::coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const {

@@ -8,7 +8,9 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "io/paper_scenes.hpp"
@@ -159,23 +161,15 @@ TEST(LinearSolver, ProgressiveLinkingLeavesOutAtMostLinkPowerInAll) {
   EXPECT_GT(tiles_shooting, 350) << "tiles that shoot, of 400";
 }
 
-TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
-  // A unit floor (z = 0, facing up) and an emitting wall (y = 0, facing +y,
-  // Kd 0) sharing the edge y = z = 0: L(x) = ρ Le F(x → wall). On the shared
-  // edge only the limit from inside the floor exists: a wall can fill at most
-  // half of the floor's projected hemisphere there, so F ≤ ½.
+// A floor of ρ 0.5 (z = 0, facing up) and an emitting wall of Kd 0 and Le 1,
+// meshed to 0.25 and solved with ε_link 5; `check` reads the result.
+void solve_floor_and_wall(const std::array<Vec3, 4>& floor_quad, const std::array<Vec3, 4>& wall_quad,
+                          const std::function<void(const Scene&, const MeshedScene&, const LinearSolver&, int)>& check) {
   PolygonSoup soup;
-  Material floor_material;
-  floor_material.name = "floor";
-  floor_material.reflectance = Rgb(0.5, 0.5, 0.5);
-  Material wall_material;
-  wall_material.name = "wall";
-  wall_material.reflectance = Rgb(0, 0, 0);
-  wall_material.emission = Rgb(1, 1, 1);
-  soup.materials = {floor_material, wall_material};
+  soup.materials = {test::grey_material("floor", 0.5), test::grey_material("wall", 0.0, 1.0)};
   soup.groups = {"floor", "wall"};
-  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
-  test::add_quad(soup, Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0), 1, 1);
+  test::add_quad(soup, floor_quad[0], floor_quad[1], floor_quad[2], floor_quad[3], 0, 0);
+  test::add_quad(soup, wall_quad[0], wall_quad[1], wall_quad[2], wall_quad[3], 1, 1);
   const Scene scene = test::scene_from_soup(soup, "floor and wall");
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
@@ -184,26 +178,37 @@ TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
   options.eps_link = 5.0;
   LinearSolver solver(model, options);
   solver.solve();
-  const int floor = model.material(0).reflectance[0] > 0 ? 0 : 1;
-  const SurfaceHierarchy& h = model.hierarchy(floor);
-  const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
-  std::size_t on_edge = 0, off_edge = 0;
-  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
-    const Vec3 x = h.point(v);
-    const double got = solver.vertex_radiance(floor)[v][0];
-    ASSERT_TRUE(std::isfinite(got)) << "vertex at " << x;
-    if (x[1] < 1e-12) {
-      EXPECT_GE(got, 0.0);
-      EXPECT_LE(got, 0.5 * 0.5 + 1e-6);
-      ++on_edge;
-      continue;
+  check(scene, model, solver, model.material(0).reflectance[0] > 0 ? 0 : 1);
+}
+
+TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
+  // A unit floor (z = 0, facing up) and an emitting wall (y = 0, facing +y,
+  // Kd 0) sharing the edge y = z = 0: L(x) = ρ Le F(x → wall). On the shared
+  // edge only the limit from inside the floor exists: a wall can fill at most
+  // half of the floor's projected hemisphere there, so F ≤ ½.
+  solve_floor_and_wall({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},
+                       {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0)},
+                       [](const Scene& scene, const MeshedScene& model, const LinearSolver& solver, int floor) {
+    const SurfaceHierarchy& h = model.hierarchy(floor);
+    const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
+    std::size_t on_edge = 0, off_edge = 0;
+    for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+      const Vec3 x = h.point(v);
+      const double got = solver.vertex_radiance(floor)[v][0];
+      ASSERT_TRUE(std::isfinite(got)) << "vertex at " << x;
+      if (x[1] < 1e-12) {
+        EXPECT_GE(got, 0.0);
+        EXPECT_LE(got, 0.5 * 0.5 + 1e-6);
+        ++on_edge;
+        continue;
+      }
+      const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), wall);
+      EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex at " << x;
+      ++off_edge;
     }
-    const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), wall);
-    EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex at " << x;
-    ++off_edge;
-  }
-  EXPECT_GT(on_edge, 3u);
-  EXPECT_GT(off_edge, 20u);
+    EXPECT_GT(on_edge, 3u);
+    EXPECT_GT(off_edge, 20u);
+  });
 }
 
 TEST(LinearSolver, VerticesBehindAShooterKeepNoFirstLinkAndTheirNeighboursStillSeeIt) {
@@ -212,55 +217,45 @@ TEST(LinearSolver, VerticesBehindAShooterKeepNoFirstLinkAndTheirNeighboursStillS
   // none of it: they keep no first link (link_new_shooters), and a vertex a
   // split makes in front of the plane from such a seed still gets the wall
   // (seed_vertices), so every vertex in front reads ρ Le F exactly.
-  PolygonSoup soup;
-  soup.materials = {test::grey_material("floor", 0.5), test::grey_material("wall", 0.0, 1.0)};
-  soup.groups = {"floor", "wall"};
-  test::add_quad(soup, Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0), 0, 0);
-  test::add_quad(soup, Vec3(-0.5, 0, 0), Vec3(-0.5, 0, 1), Vec3(0.5, 0, 1), Vec3(0.5, 0, 0), 1, 1);
-  const Scene scene = test::scene_from_soup(soup, "wall across a floor");
-  MeshingOptions meshing;
-  meshing.max_edge = 0.25;
-  MeshedScene model(scene, meshing);
-  LinearOptions options;
-  options.eps_link = 5.0;
-  LinearSolver solver(model, options);
-  solver.solve();
-  const int floor = model.material(0).reflectance[0] > 0 ? 0 : 1;
-  const SurfaceHierarchy& h = model.hierarchy(floor);
-  std::size_t behind = 0, in_front = 0, initial = 0;
-  for (const InteractionGraph& g : solver.graphs()) {
-    if (g.receiver_surface() != floor) continue;
-    initial = g.start().index.size();
-    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
-      const double y = h.point(g.vertex(i))[1];
-      if (y < -1e-9) {
-        // A split's vertex behind the plane starts from the whole wall again
-        // and keeps that link, as every later vertex does.
-        if (static_cast<std::size_t>(g.vertex(i)) >= initial) continue;
-        EXPECT_TRUE(g.links(i).empty()) << "an initial vertex behind the wall at y = " << y << " holds links";
-        ++behind;
-      } else if (y > 1e-9) {
-        EXPECT_FALSE(g.links(i).empty()) << "a vertex in front of the wall at y = " << y << " holds none";
-        ++in_front;
+  solve_floor_and_wall({Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)},
+                       {Vec3(-0.5, 0, 0), Vec3(-0.5, 0, 1), Vec3(0.5, 0, 1), Vec3(0.5, 0, 0)},
+                       [](const Scene& scene, const MeshedScene& model, const LinearSolver& solver, int floor) {
+    const SurfaceHierarchy& h = model.hierarchy(floor);
+    std::size_t behind = 0, in_front = 0, initial = 0;
+    for (const InteractionGraph& g : solver.graphs()) {
+      if (g.receiver_surface() != floor) continue;
+      initial = g.start().index.size();
+      for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+        const double y = h.point(g.vertex(i))[1];
+        if (y < -1e-9) {
+          // A split's vertex behind the plane starts from the whole wall again
+          // and keeps that link, as every later vertex does.
+          if (static_cast<std::size_t>(g.vertex(i)) >= initial) continue;
+          EXPECT_TRUE(g.links(i).empty()) << "an initial vertex behind the wall at y = " << y << " holds links";
+          ++behind;
+        } else if (y > 1e-9) {
+          EXPECT_FALSE(g.links(i).empty()) << "a vertex in front of the wall at y = " << y << " holds none";
+          ++in_front;
+        }
       }
     }
-  }
-  EXPECT_GT(behind, 20u);
-  EXPECT_GT(in_front, 20u);
-  const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
-  std::size_t split_in_front = 0;
-  for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
-    const Vec3 x = h.point(v);
-    const double got = solver.vertex_radiance(floor)[v][0];
-    if (x[1] < -1e-9) {
-      EXPECT_EQ(got, 0.0) << "vertex at " << x;
-    } else if (x[1] > 0.01) {
-      const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), wall);
-      EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex at " << x;
-      if (static_cast<std::size_t>(v) >= initial) ++split_in_front;
+    EXPECT_GT(behind, 20u);
+    EXPECT_GT(in_front, 20u);
+    const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
+    std::size_t split_in_front = 0;
+    for (VertexId v = 0; v < static_cast<VertexId>(h.num_vertices()); ++v) {
+      const Vec3 x = h.point(v);
+      const double got = solver.vertex_radiance(floor)[v][0];
+      if (x[1] < -1e-9) {
+        EXPECT_EQ(got, 0.0) << "vertex at " << x;
+      } else if (x[1] > 0.01) {
+        const double exact = 0.5 * point_polygon_form_factor(x, Vec3(0, 0, 1), wall);
+        EXPECT_NEAR(got, exact, 0.01 * exact) << "vertex at " << x;
+        if (static_cast<std::size_t>(v) >= initial) ++split_in_front;
+      }
     }
-  }
-  EXPECT_GT(split_in_front, 10u) << "splits in front of the wall";
+    EXPECT_GT(split_in_front, 10u) << "splits in front of the wall";
+  });
 }
 
 TEST(LinearSolver, FloorUnderABoxIsDarkAndItsFootIsLitFromTheOpenSide) {

@@ -162,8 +162,8 @@ TEST(LinearSolver, ProgressiveLinkingLeavesOutAtMostLinkPowerInAll) {
 }
 
 // A floor of ρ 0.5 (z = 0, facing up) and an emitting wall of Kd 0 and Le 1,
-// meshed to 0.25 and solved with ε_link 5; `check` reads the result.
-void solve_floor_and_wall(const std::array<Vec3, 4>& floor_quad, const std::array<Vec3, 4>& wall_quad,
+// meshed to 0.25 and solved with `eps_link`; `check` reads the result.
+void solve_floor_and_wall(const std::array<Vec3, 4>& floor_quad, const std::array<Vec3, 4>& wall_quad, double eps_link,
                           const std::function<void(const Scene&, const MeshedScene&, const LinearSolver&, int)>& check) {
   PolygonSoup soup;
   soup.materials = {test::grey_material("floor", 0.5), test::grey_material("wall", 0.0, 1.0)};
@@ -175,7 +175,7 @@ void solve_floor_and_wall(const std::array<Vec3, 4>& floor_quad, const std::arra
   meshing.max_edge = 0.25;
   MeshedScene model(scene, meshing);
   LinearOptions options;
-  options.eps_link = 5.0;
+  options.eps_link = eps_link;
   LinearSolver solver(model, options);
   solver.solve();
   check(scene, model, solver, model.material(0).reflectance[0] > 0 ? 0 : 1);
@@ -187,7 +187,7 @@ TEST(LinearSolver, FloorMeetingALitWallIsExactOffTheEdgeAndFiniteOnIt) {
   // edge only the limit from inside the floor exists: a wall can fill at most
   // half of the floor's projected hemisphere there, so F ≤ ½.
   solve_floor_and_wall({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)},
-                       {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0)},
+                       {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0)}, 5.0,
                        [](const Scene& scene, const MeshedScene& model, const LinearSolver& solver, int floor) {
     const SurfaceHierarchy& h = model.hierarchy(floor);
     const std::vector<Vec3>& wall = scene.surfaces[1 - floor].points;
@@ -218,7 +218,7 @@ TEST(LinearSolver, VerticesBehindAShooterKeepNoFirstLinkAndTheirNeighboursStillS
   // split makes in front of the plane from such a seed still gets the wall
   // (seed_vertices), so every vertex in front reads ρ Le F exactly.
   solve_floor_and_wall({Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)},
-                       {Vec3(-0.5, 0, 0), Vec3(-0.5, 0, 1), Vec3(0.5, 0, 1), Vec3(0.5, 0, 0)},
+                       {Vec3(-0.5, 0, 0), Vec3(-0.5, 0, 1), Vec3(0.5, 0, 1), Vec3(0.5, 0, 0)}, 160.0,
                        [](const Scene& scene, const MeshedScene& model, const LinearSolver& solver, int floor) {
     const SurfaceHierarchy& h = model.hierarchy(floor);
     std::size_t behind = 0, in_front = 0, initial = 0;

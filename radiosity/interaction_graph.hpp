@@ -32,6 +32,19 @@ inline NodeId cluster_element(int cluster) { return -(cluster + 2); }
 struct GraphLink {
   NodeId shooter;
   TransportCoefficients coefficients;
+  // The visible fraction the shooter oracle judges this link by, as a share
+  // of its exact unoccluded form factor: the draw of the link it was split
+  // or copied from, never its own, so that which links are kept does not
+  // depend on what their own rays found (docs/accuracy.md, "Judged by
+  // another draw"). A first link has no draw before it: 1, as if nothing
+  // hid its shooter.
+  float judged_fraction = 1.0f;
+
+  // The visible fraction of its own draw (a cluster's shape factor
+  // included); 1 without an exact form factor to divide by.
+  float drawn_fraction() const {
+    return coefficients.unoccluded > 0.0f ? coefficients.visible() / coefficients.unoccluded : 1.0f;
+  }
 };
 
 class InteractionGraph {

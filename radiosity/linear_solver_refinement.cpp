@@ -64,7 +64,7 @@ double LinearSolver::representation_error(int s, const GraphLink& link, const Rg
   const std::size_t index = cluster ? static_cast<std::size_t>(cluster_index(link.shooter))
                                     : static_cast<std::size_t>(link.shooter);
   if (index >= spreads.size()) return 0.0;
-  Rgb error = static_cast<double>(link.coefficients.visible()) * spreads[index];
+  Rgb error = static_cast<double>(judged_coefficients(link).visible()) * spreads[index];
   for (int c = 0; c < 3; ++c) error[c] *= rho[c];
   return luminance(error);
 }
@@ -100,7 +100,8 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
     // from there. Its coefficients are new; its neighbours' are kept (paper
     // §3: 9 new coefficients per receiver split, not 36).
     std::vector<GraphLink> links;
-    for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}});
+    // Judged by the seed's draw of the same element, not by its own.
+    for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}, l.drawn_fraction()});
     // A seed that saw none of S kept no first link (link_new_shooters).
     if (links.empty()) links.push_back({kWholeSurface, {}});
     for (std::size_t t = 0; t < links.size(); ++t) pending.push_back({gi, nv.index, t});
@@ -122,6 +123,22 @@ NodeId LinearSolver::parent_element(int s, NodeId e) const {
   return leaf >= 0 ? cluster_element(leaf) : kNoNode;
 }
 
+namespace {
+
+// A merged link is judged as its children were: by the draw they were split
+// from, the unoccluded-weighted mean where they came from different ones.
+float merged_judged_fraction(std::span<const GraphLink> links, std::span<const std::size_t> slots) {
+  double weighted = 0.0, weight = 0.0;
+  for (std::size_t t : slots) {
+    const GraphLink& child = links[t];
+    weighted += child.judged_fraction * child.coefficients.unoccluded;
+    weight += child.coefficients.unoccluded;
+  }
+  return weight > 0.0 ? static_cast<float>(weighted / weight) : 1.0f;
+}
+
+}  // namespace
+
 std::optional<GraphLink> LinearSolver::merged_link(int s, NodeId parent, std::span<const GraphLink> links,
                                                    std::span<const std::size_t> slots) const {
   GraphLink out{parent, {}};
@@ -132,6 +149,7 @@ std::optional<GraphLink> LinearSolver::merged_link(int s, NodeId parent, std::sp
     std::array<TransportCoefficients, 4> children;
     for (std::size_t t : slots) children[h.child_index(links[t].shooter)] = links[t].coefficients;
     out.coefficients = merge_child_coefficients(children);
+    out.judged_fraction = merged_judged_fraction(links, slots);
     return out;
   }
   // A constant-basis parent (a cluster) carries its children's transfer:
@@ -157,6 +175,7 @@ std::optional<GraphLink> LinearSolver::merged_link(int s, NodeId parent, std::sp
   }
   out.coefficients.f[0] = static_cast<float>(carried > 0.0 ? transfer / carried : visible);
   out.coefficients.unoccluded = static_cast<float>(unoccluded);
+  out.judged_fraction = merged_judged_fraction(links, slots);
   return out;
 }
 
@@ -343,13 +362,29 @@ bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
   return changed;
 }
 
+TransportCoefficients LinearSolver::judged_coefficients(const GraphLink& link) {
+  TransportCoefficients out = link.coefficients;
+  // Without an exact form factor there is nothing to scale: its own draw.
+  if (!(out.unoccluded > 0.0f)) return out;
+  const double drawn = out.visible(), judged = static_cast<double>(link.judged_fraction) * out.unoccluded;
+  if (drawn > 0.0) {
+    for (float& f : out.f) f = static_cast<float>(f * (judged / drawn));
+  } else if (is_cluster_element(link.shooter)) {
+    out.f = {static_cast<float>(judged), 0.0f, 0.0f};
+  } else {
+    out.f.fill(static_cast<float>(judged / 3.0));
+  }
+  return out;
+}
+
 LinearSolver::LinkJudgement LinearSolver::judge_link(int gi, int i, const GraphLink& link) const {
   const InteractionGraph& g = graphs_[gi];
   const int s = g.shooter_surface();
   const Rgb& rho = model_.material(g.receiver_surface()).reflectance;
+  const TransportCoefficients judged = judged_coefficients(link);
   double largest = 0.0;
   for (int l = 0; l < 3; ++l) {
-    Rgb transfer = static_cast<double>(link.coefficients.f[l]) * shooter_value(s, link.shooter, l);
+    Rgb transfer = static_cast<double>(judged.f[l]) * shooter_value(s, link.shooter, l);
     for (int c = 0; c < 3; ++c) transfer[c] *= rho[c];
     largest = std::max(largest, luminance(transfer));
   }
@@ -397,12 +432,16 @@ bool LinearSolver::split_shooters(const std::vector<PendingLink>& candidates, st
     const PendingLink& p = candidates[k];
     if (budget_.refuses(links_now_, 3, stats_)) continue;
     InteractionGraph& g = graphs_[p.graph];
-    const std::vector<NodeId> kids = children(g.shooter_surface(), g.links(p.vertex)[p.slot].shooter);
-    g.links(p.vertex)[p.slot] = {kids[0], {}};
+    const GraphLink& parent = g.links(p.vertex)[p.slot];
+    const std::vector<NodeId> kids = children(g.shooter_surface(), parent.shooter);
+    // The children are judged by the parent's draw, which their own draws
+    // do not depend on (docs/accuracy.md, "Judged by another draw").
+    const float fraction = parent.drawn_fraction();
+    g.links(p.vertex)[p.slot] = {kids[0], {}, fraction};
     created.push_back(p);
     for (std::size_t c = 1; c < kids.size(); ++c) {
       created.push_back({p.graph, p.vertex, g.links(p.vertex).size()});
-      g.add_link(p.vertex, {kids[c], {}});
+      g.add_link(p.vertex, {kids[c], {}, fraction});
     }
     links_now_ += kids.size() - 1;
     oracle_watch_[p.graph].drift = std::numeric_limits<float>::infinity();

@@ -1,11 +1,12 @@
+// Small parts seen past other objects (a table's aprons, legs, the top's
+// underside) against the path tracer, an independent truth, in a lit room.
+//
 // Which links the shooter oracle keeps must not depend on what their own
 // shadow rays found (docs/accuracy.md, "Judged by another draw"). Judged by
 // its own draw, a partly hidden link whose rays found more of its shooter
 // than is there was split and drawn afresh, and one whose rays found less
-// was kept: the kept draws were low on average, and small parts seen past
-// other objects (a table's aprons, legs, the top's underside) came out a few
-// per cent dark, more with fewer rays. The truth here is independent of the
-// solver: the path tracer's radiance at the solver's own vertices.
+// was kept: the kept draws were low on average, and such parts came out a
+// few per cent dark at their vertices, more with fewer rays.
 
 #include <gtest/gtest.h>
 
@@ -61,7 +62,7 @@ Scene room_with_a_table() {
   return test::scene_from_soup(soup, "room with a table");
 }
 
-TEST(LinkSelection, SmallPartsSeenPastOtherObjectsAreAsBrightAsThePathTracerSaysWithFewRays) {
+TEST(SmallParts, VertexValuesAreThePathTracersWithFewRaysALink) {
   const Scene scene = room_with_a_table();
   MeshingOptions meshing;
   meshing.max_edge = default_max_edge(scene);

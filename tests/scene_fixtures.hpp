@@ -32,6 +32,21 @@ inline void add_quad(PolygonSoup& soup, const Vec3& a, const Vec3& b, const Vec3
   soup.faces.push_back({{first, first + 1, first + 2, first + 3}, material, group, 0});
 }
 
+// An axis-aligned box from lo to hi, six quads facing out, or in (a room).
+inline void add_box(PolygonSoup& soup, const Vec3& lo, const Vec3& hi, bool inward, int material, int group) {
+  const Vec3 c[8] = {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], lo[1], lo[2]), Vec3(hi[0], lo[1], hi[2]),
+                     Vec3(lo[0], lo[1], hi[2]), Vec3(lo[0], hi[1], lo[2]), Vec3(hi[0], hi[1], lo[2]),
+                     Vec3(hi[0], hi[1], hi[2]), Vec3(lo[0], hi[1], hi[2])};
+  const int faces[6][4] = {{0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}, {4, 7, 6, 5}, {0, 1, 2, 3}};
+  for (const auto& q : faces) {
+    if (inward) {
+      add_quad(soup, c[q[3]], c[q[2]], c[q[1]], c[q[0]], material, group);
+    } else {
+      add_quad(soup, c[q[0]], c[q[1]], c[q[2]], c[q[3]], material, group);
+    }
+  }
+}
+
 inline Scene scene_from_soup(const PolygonSoup& soup, const std::string& name) {
   Scene scene;
   scene.source = name;

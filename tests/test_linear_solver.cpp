@@ -444,17 +444,7 @@ TEST(LinearSolver, FurnaceWithATableIsTwoInTheCornersUnderItsTop) {
   soup.materials = {Material{"m", Rgb(0.5, 0.5, 0.5), Rgb(1, 1, 1)}};
   soup.groups = {"room", "top", "legs", "aprons"};
   const auto box = [&](const Vec3& lo, const Vec3& hi, bool inward, int group) {
-    const Vec3 c[8] = {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], lo[1], lo[2]), Vec3(hi[0], lo[1], hi[2]),
-                       Vec3(lo[0], lo[1], hi[2]), Vec3(lo[0], hi[1], lo[2]), Vec3(hi[0], hi[1], lo[2]),
-                       Vec3(hi[0], hi[1], hi[2]), Vec3(lo[0], hi[1], hi[2])};
-    const int faces[6][4] = {{0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}, {4, 7, 6, 5}, {0, 1, 2, 3}};
-    for (const auto& q : faces) {
-      if (inward) {
-        test::add_quad(soup, c[q[3]], c[q[2]], c[q[1]], c[q[0]], 0, group);
-      } else {
-        test::add_quad(soup, c[q[0]], c[q[1]], c[q[2]], c[q[3]], 0, group);
-      }
-    }
+    test::add_box(soup, lo, hi, inward, 0, group);
   };
   box(Vec3(0, 0, 0), Vec3(4, 2.7, 4), true, 0);
   const double x0 = 1.2, x1 = 2.8, z0 = 1.5, z1 = 2.5, under = 0.71;

@@ -32,31 +32,18 @@ Scene room_with_a_table() {
   soup.materials = {test::grey_material("wall", 0.6), test::grey_material("wood", 0.5),
                     test::grey_material("lamp", 0.0, 20.0)};
   soup.groups = {"room", "top", "legs", "aprons", "lamp"};
-  const auto box = [&](const Vec3& lo, const Vec3& hi, bool inward, int material, int group) {
-    const Vec3 c[8] = {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], lo[1], lo[2]), Vec3(hi[0], lo[1], hi[2]),
-                       Vec3(lo[0], lo[1], hi[2]), Vec3(lo[0], hi[1], lo[2]), Vec3(hi[0], hi[1], lo[2]),
-                       Vec3(hi[0], hi[1], hi[2]), Vec3(lo[0], hi[1], hi[2])};
-    const int faces[6][4] = {{0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}, {4, 7, 6, 5}, {0, 1, 2, 3}};
-    for (const auto& q : faces) {
-      if (inward) {
-        test::add_quad(soup, c[q[3]], c[q[2]], c[q[1]], c[q[0]], material, group);
-      } else {
-        test::add_quad(soup, c[q[0]], c[q[1]], c[q[2]], c[q[3]], material, group);
-      }
-    }
-  };
-  box(Vec3(0, 0, 0), Vec3(4, 2.7, 4), true, 0, 0);
+  test::add_box(soup, Vec3(0, 0, 0), Vec3(4, 2.7, 4), true, 0, 0);
   const double x0 = 1.2, x1 = 2.8, z0 = 1.5, z1 = 2.5, under = 0.71;
-  box(Vec3(x0, under, z0), Vec3(x1, 0.75, z1), false, 1, 1);
+  test::add_box(soup, Vec3(x0, under, z0), Vec3(x1, 0.75, z1), false, 1, 1);
   for (const double lx : {x0 + 0.05, x1 - 0.11}) {
     for (const double lz : {z0 + 0.05, z1 - 0.11}) {
-      box(Vec3(lx, 0, lz), Vec3(lx + 0.06, under, lz + 0.06), false, 1, 2);
+      test::add_box(soup, Vec3(lx, 0, lz), Vec3(lx + 0.06, under, lz + 0.06), false, 1, 2);
     }
   }
-  box(Vec3(x0 + 0.06, under - 0.08, z0 + 0.11), Vec3(x0 + 0.08, under, z1 - 0.11), false, 1, 3);
-  box(Vec3(x1 - 0.08, under - 0.08, z0 + 0.11), Vec3(x1 - 0.06, under, z1 - 0.11), false, 1, 3);
-  box(Vec3(x0 + 0.11, under - 0.08, z0 + 0.06), Vec3(x1 - 0.11, under, z0 + 0.08), false, 1, 3);
-  box(Vec3(x0 + 0.11, under - 0.08, z1 - 0.08), Vec3(x1 - 0.11, under, z1 - 0.06), false, 1, 3);
+  test::add_box(soup, Vec3(x0 + 0.06, under - 0.08, z0 + 0.11), Vec3(x0 + 0.08, under, z1 - 0.11), false, 1, 3);
+  test::add_box(soup, Vec3(x1 - 0.08, under - 0.08, z0 + 0.11), Vec3(x1 - 0.06, under, z1 - 0.11), false, 1, 3);
+  test::add_box(soup, Vec3(x0 + 0.11, under - 0.08, z0 + 0.06), Vec3(x1 - 0.11, under, z0 + 0.08), false, 1, 3);
+  test::add_box(soup, Vec3(x0 + 0.11, under - 0.08, z1 - 0.08), Vec3(x1 - 0.11, under, z1 - 0.06), false, 1, 3);
   // The lamp hangs 1 cm under the ceiling, off to one side of the table.
   test::add_quad(soup, Vec3(0.8, 2.69, 0.8), Vec3(1.3, 2.69, 0.8), Vec3(1.3, 2.69, 1.3), Vec3(0.8, 2.69, 1.3), 2, 4);
   return test::scene_from_soup(soup, "room with a table");

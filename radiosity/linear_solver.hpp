@@ -254,9 +254,6 @@ class LinearSolver {
     double own_allowed = 0.0;
   };
   LinkJudgement judge_link(int g, int i, const GraphLink& link) const;
-  // A link's coefficients as the shooter oracle reads them: scaled to its
-  // judged fraction (GraphLink::judged_fraction).
-  static TransportCoefficients judged_coefficients(const GraphLink& link);
   // The element whose children shooter element e is one of (a quadtree
   // parent, the cluster that opens onto a root, a cluster's parent), or
   // kNoNode for the whole surface.

@@ -50,6 +50,23 @@ std::uint64_t element_key(int graph, NodeId element) {
   return (static_cast<std::uint64_t>(graph) << 32) | static_cast<std::uint32_t>(element);
 }
 
+// A link's coefficients as the shooter oracle reads them: scaled to its
+// judged fraction (GraphLink::judged_fraction).
+TransportCoefficients judged_coefficients(const GraphLink& link) {
+  TransportCoefficients out = link.coefficients;
+  // Without an exact form factor there is nothing to scale: its own draw.
+  if (!(out.unoccluded > 0.0f)) return out;
+  const double drawn = out.visible(), judged = static_cast<double>(link.judged_fraction) * out.unoccluded;
+  if (drawn > 0.0) {
+    for (float& f : out.f) f = static_cast<float>(f * (judged / drawn));
+  } else if (is_cluster_element(link.shooter)) {
+    out.f = {static_cast<float>(judged), 0.0f, 0.0f};
+  } else {
+    out.f.fill(static_cast<float>(judged / 3.0));
+  }
+  return out;
+}
+
 }  // namespace
 
 double LinearSolver::representation_error(int s, const GraphLink& link, const Rgb& rho) const {
@@ -360,21 +377,6 @@ bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
     candidates = std::move(next);
   }
   return changed;
-}
-
-TransportCoefficients LinearSolver::judged_coefficients(const GraphLink& link) {
-  TransportCoefficients out = link.coefficients;
-  // Without an exact form factor there is nothing to scale: its own draw.
-  if (!(out.unoccluded > 0.0f)) return out;
-  const double drawn = out.visible(), judged = static_cast<double>(link.judged_fraction) * out.unoccluded;
-  if (drawn > 0.0) {
-    for (float& f : out.f) f = static_cast<float>(f * (judged / drawn));
-  } else if (is_cluster_element(link.shooter)) {
-    out.f = {static_cast<float>(judged), 0.0f, 0.0f};
-  } else {
-    out.f.fill(static_cast<float>(judged / 3.0));
-  }
-  return out;
 }
 
 LinearSolver::LinkJudgement LinearSolver::judge_link(int gi, int i, const GraphLink& link) const {

@@ -79,7 +79,8 @@ int run_solve(const Args& args) {
        "and about 64 bytes per image pixel; a camera whose image does not fit beside the budget is refused "
        "(docs/robustness.md)")
       ("visibility-samples", po::value<int>()->default_value(ClassicalOptions{}.visibility_samples),
-       "k: k^2 shadow rays per link")
+       "k: k^2 shadow rays per link; linear: at least that, and up to (4k)^2 for a partly hidden link that "
+       "brings much of its node's value (docs/design.md, \"How many rays\")")
       ("tone-map", po::value<std::string>()->default_value("tumblin-rushmeier"),
        "tumblin-rushmeier (paper ref. 18) or linear; the tone flags override the scene file's "
        "\"tone_map\" block, which overrides these defaults")

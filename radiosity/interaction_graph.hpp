@@ -29,6 +29,9 @@ inline bool is_cluster_element(NodeId e) { return e <= kWholeSurface; }
 inline int cluster_index(NodeId e) { return -(e + 2); }
 inline NodeId cluster_element(int cluster) { return -(cluster + 2); }
 
+// GraphLink::judged_fraction of a link with no draw before it.
+constexpr float kJudgedByPilot = -1.0f;
+
 struct GraphLink {
   NodeId shooter;
   TransportCoefficients coefficients;
@@ -36,8 +39,9 @@ struct GraphLink {
   // of its exact unoccluded form factor: the draw of the link it was split
   // or copied from, never its own, so that which links are kept does not
   // depend on what their own rays found (docs/accuracy.md, "Judged by
-  // another draw"). A first link has no draw before it: 1, as if nothing
-  // hid its shooter.
+  // another draw"). A first link has no draw before it: it is made with
+  // kJudgedByPilot, and its coefficients' computation judges it by a pilot
+  // draw of its own that it then discards.
   float judged_fraction = 1.0f;
 
   // The visible fraction of its own draw (a cluster's shape factor

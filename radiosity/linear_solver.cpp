@@ -344,7 +344,7 @@ bool LinearSolver::link_new_shooters() {
         if (!starts_[r]) starts_[r] = std::make_shared<const InteractionGraph::Start>(model_.hierarchy(r));
         graphs_.emplace_back(s, r, starts_[r]);
         InteractionGraph& graph = graphs_.back();
-        graph.set_every_vertex_link({kWholeSurface, {}});
+        graph.set_every_vertex_link({kWholeSurface, {}, kJudgedByPilot});
         for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) pending.push_back({g, i, 0});
       }
     }

@@ -89,8 +89,10 @@ struct LinearOptions {
   // into one when the shooter oracle would keep that link (docs/design.md,
   // "Coarsening links"); false keeps every link it opened, as the paper does.
   bool coarsen_links = true;
-  int visibility_samples = 4;  // k: k² basis-weighted shadow rays per link
-  std::size_t max_links = 0;   // 0 = no limit
+  // k: at least k² basis-weighted shadow rays per link, more where a node's
+  // noise needs them (noise_bounded_k).
+  int visibility_samples = 4;
+  std::size_t max_links = 0;  // 0 = no limit
   // Memory of the radiosity data (LinearStats::bytes_total(): hierarchies,
   // vertex values, graphs, links), bytes; 0 = no limit. Refinement stops
   // before the data passes it; linking new shooters does not.
@@ -199,8 +201,14 @@ class LinearSolver {
   void sync_vertices(int s);
   bool link_new_shooters();
   void compute_coefficients(std::vector<PendingLink>& pending);
-  TransportCoefficients coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
-                                     std::uint64_t& rays) const;
+  // One draw of a link's coefficients with k² rays per shooter triangle;
+  // draws with different `draw` numbers are independent.
+  TransportCoefficients coefficients(const InteractionGraph& g, int vertex, NodeId shooter, int k,
+                                     std::uint64_t draw, std::uint64_t& rays) const;
+  // The k a link is drawn with so that the noise of all of a node's links
+  // stays within kNodeNoise of its value (docs/accuracy.md, "A node's noise").
+  int noise_bounded_k(const InteractionGraph& g, int vertex, const GraphLink& link,
+                      const TransportCoefficients& drawn) const;
   // One face of a curved surface that a node lies on, seen from inside it.
   struct ReceiverSide {
     Vec3 normal;

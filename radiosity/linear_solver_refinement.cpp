@@ -33,6 +33,10 @@ constexpr double kRelativeErrorFloor = 0.01;
 // through a door lost 3 % of its light that way, and a bright closed room
 // 1 % of its lamp's power (docs/accuracy.md, "Concave junctions").
 constexpr double kPowerTolerance = 1e-5;
+// The same, against the power the receiver surface reflects: a few edges
+// along a part's concave junctions must not add up to the 3 % a surface's
+// mean may be off by (docs/accuracy.md, "A surface's own power").
+constexpr double kSurfacePowerTolerance = 3e-3;
 // A graph leaf whose receiver node another graph has split already is split
 // here too when, along one of its edges, what this graph's shooter sends per
 // unit of unoccluded form factor changes by more than this fraction of the
@@ -53,6 +57,7 @@ std::uint64_t element_key(int graph, NodeId element) {
 // A link's coefficients as the shooter oracle reads them: scaled to its
 // judged fraction (GraphLink::judged_fraction).
 TransportCoefficients judged_coefficients(const GraphLink& link) {
+  assert(link.judged_fraction >= 0.0f);
   TransportCoefficients out = link.coefficients;
   // Without an exact form factor there is nothing to scale: its own draw.
   if (!(out.unoccluded > 0.0f)) return out;
@@ -120,7 +125,7 @@ void LinearSolver::seed_vertices(int gi, const std::vector<InteractionGraph::New
     // Judged by the seed's draw of the same element, not by its own.
     for (const GraphLink& l : g.links(nv.seed)) links.push_back({l.shooter, {}, l.drawn_fraction()});
     // A seed that saw none of S kept no first link (link_new_shooters).
-    if (links.empty()) links.push_back({kWholeSurface, {}});
+    if (links.empty()) links.push_back({kWholeSurface, {}, kJudgedByPilot});
     for (std::size_t t = 0; t < links.size(); ++t) pending.push_back({gi, nv.index, t});
     links_now_ += links.size();
     g.set_links(nv.index, links);
@@ -470,6 +475,7 @@ class LinearSolver::ReceiverTests {
         oracle_(tone, solver.options_.vis_threshold) {
     prepare_small_shooter();
     prepare_facet_spread();
+    prepare_receiver_power();
     // S's contribution at every graph vertex, gathered once for all the
     // tests from the links as they stand (the shooter oracle has refined
     // some since the push) and the shooter's values of the last pull.
@@ -585,7 +591,12 @@ class LinearSolver::ReceiverTests {
     double second_difference = 0.0;
     for (int i = 0; i < 4; ++i) second_difference += w[i] * own(idx[i]);
     const double misplaced = 0.5 * std::abs(second_difference) * (model_.area(r_, leaf) + model_.area(r_, across));
-    const bool by_power = M_PI * misplaced >= kPowerTolerance * solver_.total_emitted_power_;
+    // And small against what R itself reflects: on a small part beside
+    // a concave junction (an apron where a leg stands 1 cm proud of it) no
+    // edge misplaces enough of the scene's power, but the loss is a few
+    // per cent of the part's own (docs/accuracy.md, "A surface's own power").
+    const bool by_power = M_PI * misplaced >= kPowerTolerance * solver_.total_emitted_power_ ||
+                          M_PI * misplaced >= kSurfacePowerTolerance * receiver_power_;
     // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
     const double pixels = solver_.node_importance(r_, leaf) + solver_.node_importance(r_, across);
     const double eps_pixel = solver_.options_.eps_pixel;
@@ -608,6 +619,17 @@ class LinearSolver::ReceiverTests {
     for (int k = 0; k < 3; ++k) reflected_exitance[k] *= rho_[k];
     shooter_power_ = shooter_area_ * luminance(reflected_exitance);
     shooter_centre_ = solver_.surfaces_[s_].centre;
+  }
+
+  // What R reflects, π A L̄ in luminance, with its mean radiance floored as
+  // the relative norm floors its errors, so that a surface in the dark is
+  // not refined without bound.
+  void prepare_receiver_power() {
+    Rgb reflected = st_.clusters.radiance[0];
+    const Rgb& emission = model_.material(r_).emission;
+    for (int k = 0; k < 3; ++k) reflected[k] = std::max(0.0, reflected[k] - emission[k]);
+    receiver_power_ = M_PI * model_.surface_area(r_) *
+                      std::max(luminance(reflected), kRelativeErrorFloor * solver_.adaptation_);
   }
 
   void prepare_facet_spread() {
@@ -639,6 +661,7 @@ class LinearSolver::ReceiverTests {
   const ReceiverOracle oracle_;
   double shooter_area_ = 0.0;
   double shooter_power_ = 0.0;
+  double receiver_power_ = 0.0;
   Vec3 shooter_centre_{0, 0, 0};
   std::vector<float>* facet_spread_ = nullptr;  // curved receivers only
   std::vector<Rgb> gathered_;  // per graph vertex

@@ -15,6 +15,19 @@
 #include "radiosity/sampling.hpp"
 
 namespace lhr {
+namespace {
+
+// docs/accuracy.md, "A node's noise": the relative standard deviation the
+// draws of a node's links may leave in its value, bounded as if the rays
+// were independent (stratified ones usually leave less): at 2.5 σ, the 10 % that
+// a node may be off by. A link draws at most kMaxNoiseK times the k of
+// --visibility-samples, and values under kNoiseFloor of the adaptation (the
+// relative norm's floor) are bounded as if they were that bright.
+constexpr double kNodeNoise = 0.04;
+constexpr int kMaxNoiseK = 4;
+constexpr double kNoiseFloor = 0.01;
+
+}  // namespace
 
 std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, VertexId v) const {
   // docs/design.md §4 "Linear basis, point collocation", curved surfaces: the
@@ -77,13 +90,14 @@ std::vector<LinearSolver::CollocationPoint> LinearSolver::collocation_points(int
   return out;
 }
 
-TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter,
-                                                 std::uint64_t& rays) const {
+TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int vertex, NodeId shooter, int k,
+                                                 std::uint64_t draw, std::uint64_t& rays) const {
   const int r = g.receiver_surface(), s = g.shooter_surface();
   const VertexId v = g.vertex(vertex);
   TransportSampling sampling;
-  sampling.k = options_.visibility_samples;
-  sampling.key = sample_key((static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
+  sampling.k = k;
+  // Surface indices are below 2³¹: the top bit tells the draws apart.
+  sampling.key = sample_key((draw << 63) | (static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
                             static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
   const std::vector<CollocationPoint> points = collocation_points(r, v);
   if (points.size() == 1) return transport_to(points.front().point, s, shooter, sampling, rays);
@@ -207,6 +221,38 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
   return triangle_transport(point, model_.triangle(s, shooter), model_.rays(), sampling, rays);
 }
 
+int LinearSolver::noise_bounded_k(const InteractionGraph& g, int vertex, const GraphLink& link,
+                                  const TransportCoefficients& drawn) const {
+  const int k = options_.visibility_samples;
+  const double phi = std::clamp(static_cast<double>(link.judged_fraction), 0.0, 1.0);
+  if (!(phi > 0.0 && phi < 1.0) || k <= 0) return k;
+  const int r = g.receiver_surface(), s = g.shooter_surface();
+  const Rgb& rho = model_.material(r).reflectance;
+  // What the link would bring unoccluded: its exact form factor times the
+  // shooter's mean value, reflected.
+  const int values = is_cluster_element(link.shooter) ? 1 : 3;
+  double shooter = 0.0;
+  for (int l = 0; l < values; ++l) {
+    Rgb b = shooter_value(s, link.shooter, l);
+    for (int c = 0; c < 3; ++c) b[c] *= rho[c];
+    shooter += luminance(b) / values;
+  }
+  const double open = static_cast<double>(drawn.unoccluded) * shooter;
+  // The node's value: at least what this link brings, judged.
+  const VertexId v = g.vertex(vertex);
+  const std::vector<Rgb>& radiance = surfaces_[r].radiance;
+  const double known = static_cast<std::size_t>(v) < radiance.size() ? luminance(radiance[v]) : 0.0;
+  const double value = std::max({known, phi * open, kNoiseFloor * adaptation_});
+  if (!(value > 0.0)) return k;
+  // docs/accuracy.md, "A node's noise": n independent rays leave a variance
+  // of open² φ(1−φ)/n. Each link
+  // keeps it within kNodeNoise² · value · φ·open, its share of the value, so
+  // all of a node's links together stay within (kNodeNoise · value)².
+  const double rays = open * (1.0 - phi) / (kNodeNoise * kNodeNoise * value);
+  const double want = std::ceil(std::sqrt(rays));
+  return static_cast<int>(std::clamp(want, static_cast<double>(k), static_cast<double>(kMaxNoiseK * k)));
+}
+
 void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
   PhaseTimer timer(stats_.seconds_coefficients);
   std::atomic<std::uint64_t> rays{0};
@@ -215,7 +261,24 @@ void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
     InteractionGraph& g = graphs_[p.graph];
     GraphLink& link = g.links(p.vertex)[p.slot];
     std::uint64_t local = 0;
-    link.coefficients = coefficients(g, p.vertex, link.shooter, local);
+    const int k = options_.visibility_samples;
+    TransportCoefficients drawn = coefficients(g, p.vertex, link.shooter, k, 0, local);
+    const bool first = link.judged_fraction < 0.0f;
+    // A first link is judged by this pilot draw, and drawn afresh below, so
+    // that what the shooter oracle reads is never its own draw.
+    if (first) link.judged_fraction = drawn.unoccluded > 0.0f ? drawn.visible() / drawn.unoccluded : 1.0f;
+    const int more = drawn.unoccluded > 0.0f ? noise_bounded_k(g, p.vertex, link, drawn) : k;
+    if (first && drawn.unoccluded > 0.0f) {
+      drawn = coefficients(g, p.vertex, link.shooter, more, 1, local);
+    } else if (more > k) {
+      // How many rays is decided from another draw's fraction and exact
+      // form factors, not from this draw: both draws are unbiased, and so
+      // is their mean weighted by their rays.
+      const TransportCoefficients second = coefficients(g, p.vertex, link.shooter, more, 1, local);
+      const float w = static_cast<float>(k * k) / static_cast<float>(k * k + more * more);
+      for (int l = 0; l < 3; ++l) drawn.f[l] = w * drawn.f[l] + (1.0f - w) * second.f[l];
+    }
+    link.coefficients = drawn;
     rays += local;
   });
   stats_.shadow_rays += rays.load();

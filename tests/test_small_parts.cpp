@@ -55,13 +55,23 @@ Scene room_with_a_table() {
   return test::scene_from_soup(soup, "room with a table");
 }
 
-TEST(SmallParts, VertexValuesAreThePathTracersWithFewRaysALink) {
-  const Scene scene = room_with_a_table();
+MeshingOptions default_meshing(const Scene& scene) {
   MeshingOptions meshing;
   meshing.max_edge = default_max_edge(scene);
-  MeshedScene model(scene, meshing);
+  return meshing;
+}
+
+// A camera by the wall, looking at the table from the side.
+LinearOptions looking_at_the_table(const MeshedScene& model) {
   LinearOptions options;
   options.view = test::view_from(model, Vec3(0.3, 1.0, 2.0), Vec3(1.2, 0.6, 2.0), Vec3(0, 1, 0), 50.0, 128, 96);
+  return options;
+}
+
+TEST(SmallParts, VertexValuesAreThePathTracersWithFewRaysALink) {
+  const Scene scene = room_with_a_table();
+  MeshedScene model(scene, default_meshing(scene));
+  LinearOptions options = looking_at_the_table(model);
   // Four rays a link: the fewer the rays, the larger the bias a selection
   // by the link's own draw makes.
   options.visibility_samples = 2;
@@ -112,11 +122,8 @@ TEST(SmallParts, VertexValuesAreThePathTracersWithFewRaysALink) {
 
 TEST(SmallParts, TheInterpolantHoldsEachApronsPower) {
   const Scene scene = room_with_a_table();
-  MeshingOptions meshing;
-  meshing.max_edge = default_max_edge(scene);
-  MeshedScene model(scene, meshing);
-  LinearOptions options;
-  options.view = test::view_from(model, Vec3(0.3, 1.0, 2.0), Vec3(1.2, 0.6, 2.0), Vec3(0, 1, 0), 50.0, 128, 96);
+  MeshedScene model(scene, default_meshing(scene));
+  LinearOptions options = looking_at_the_table(model);
   LinearSolver solver(model, options);
   solver.solve();
 

@@ -160,7 +160,7 @@ int run_bench(const Args& args) {
       ("max-seconds", double_value(0.0), "start no run after this many seconds (0: no limit)")
       ("reach", po::value<std::string>()->default_value("90,95"),
        "accuracy targets, % of pixels within 10 % (relative): the seconds each method took to reach each")
-      ("min-edge", po::value<double>(), "lhr solve: smallest element edge (default h/32)")
+      ("min-edge", po::value<double>(), "lhr solve: smallest element edge (default h/32, finer toward small and on thin surfaces)")
       ("max-iterations", po::value<int>(), "lhr solve: iteration limit")
       ("tolerance", po::value<double>(), "lhr solve: convergence tolerance")
       ("max-links", po::value<std::size_t>(), "lhr solve: stop refining at this many links")

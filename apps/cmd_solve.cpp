@@ -66,7 +66,9 @@ int run_solve(const Args& args) {
       ("eps-bf", double_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor, or the spread of the shooter's leaves "
        "about its value x form factor, exceeds this fraction of the brightest emitted radiance")
-      ("min-edge", po::value<double>(), "smallest element edge (default h/32)")
+      ("min-edge", po::value<double>(),
+       "smallest element edge (default h/32, finer toward a small surface and on a thin one: docs/design.md, "
+       "\"Limits the user controls\")")
       ("max-iterations", po::value<int>(), "iteration limit (default: linear 50, classical 100)")
       ("tolerance", po::value<double>(),
        "stop when no value changes by more than this fraction of the brightest emitted radiance "

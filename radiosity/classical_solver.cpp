@@ -341,7 +341,7 @@ bool ClassicalSolver::refine_links() {
 
   // The floor depends on the other end of the link (radiosity/element_floor.hpp).
   const auto splittable = [&](const Element& e, int partner) {
-    return is_cluster(e) || floor_.allows_split(model_.area(e.surface, e.node), partner);
+    return is_cluster(e) || floor_.allows_split(model_.area(e.surface, e.node), e.surface, partner);
   };
   const auto split_node = [&](const Element& e) {
     SurfaceHierarchy& h = model_.hierarchy(e.surface);

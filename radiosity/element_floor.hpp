@@ -11,7 +11,14 @@
 // default floor shrinks to a fraction of the partner surface's size in the
 // interactions with a small surface; every interaction between surfaces
 // larger than the scene floor keeps that floor.
+//
+// A thin part (a chair leg 4 cm wide, a table's apron) holds its own bends
+// across its width: the radiance drops into its junctions with the floor or
+// a seat within a centimetre, and an element as wide as the part cuts under
+// that, whatever its partner (docs/accuracy.md, "Thin parts"). So a
+// surface's own elements may also go down to a fraction of its width.
 
+#include <algorithm>
 #include <vector>
 
 #include "radiosity/meshed_scene.hpp"
@@ -29,11 +36,18 @@ class ElementFloor {
   // elements of up to 4 times this area are not split.
   double min_area(int partner) const { return min_area_[partner]; }
 
-  // A split of a node of this area in an interaction with `partner` is allowed.
-  bool allows_split(double area, int partner) const { return area > 4.0 * min_area_[partner]; }
+  // Smallest area surface s's own width allows its elements.
+  double own_min_area(int s) const { return own_min_area_[s]; }
+
+  // A split of a node of surface `self` with this area, in an interaction
+  // with `partner`, is allowed: the finer of the two floors holds.
+  bool allows_split(double area, int self, int partner) const {
+    return area > 4.0 * std::min(min_area_[partner], own_min_area_[self]);
+  }
 
  private:
   std::vector<double> min_area_;
+  std::vector<double> own_min_area_;
 };
 
 }  // namespace lhr

@@ -181,7 +181,7 @@ void LinearSolver::sync_vertices(int s) {
 
 bool LinearSolver::splittable(int s, NodeId e, int partner) const {
   if (is_cluster_element(e)) return true;
-  return model_.hierarchy(s).level(e) < SurfaceHierarchy::kMaxLevel && floor_.allows_split(model_.area(s, e), partner);
+  return model_.hierarchy(s).level(e) < SurfaceHierarchy::kMaxLevel && floor_.allows_split(model_.area(s, e), s, partner);
 }
 
 std::vector<NodeId> LinearSolver::children(int s, NodeId e) {

@@ -19,8 +19,8 @@ namespace {
 
 // docs/accuracy.md, "A node's noise": the relative standard deviation the
 // draws of a node's links may leave in its value, bounded as if the rays
-// were independent (stratified ones usually leave less): at 2.5 σ, the 10 % that
-// a node may be off by. A link draws at most kMaxNoiseK times the k of
+// were independent (stratified ones usually leave less): at 2.5 σ, the 10 %
+// that a node may be off by. A link draws at most kMaxNoiseK times the k of
 // --visibility-samples, and values under kNoiseFloor of the adaptation (the
 // relative norm's floor) are bounded as if they were that bright.
 constexpr double kNodeNoise = 0.04;
@@ -245,9 +245,9 @@ int LinearSolver::noise_bounded_k(const InteractionGraph& g, int vertex, const G
   const double value = std::max({known, phi * open, kNoiseFloor * adaptation_});
   if (!(value > 0.0)) return k;
   // docs/accuracy.md, "A node's noise": n independent rays leave a variance
-  // of open² φ(1−φ)/n. Each link
-  // keeps it within kNodeNoise² · value · φ·open, its share of the value, so
-  // all of a node's links together stay within (kNodeNoise · value)².
+  // of open² φ(1−φ)/n. Each link keeps it within kNodeNoise² · value · φ·open,
+  // its share of the value, so all of a node's links together stay within
+  // (kNodeNoise · value)².
   const double rays = open * (1.0 - phi) / (kNodeNoise * kNodeNoise * value);
   const double want = std::ceil(std::sqrt(rays));
   return static_cast<int>(std::clamp(want, static_cast<double>(k), static_cast<double>(kMaxNoiseK * k)));
@@ -266,7 +266,10 @@ void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
     const bool first = link.judged_fraction < 0.0f;
     // A first link is judged by this pilot draw, and drawn afresh below, so
     // that what the shooter oracle reads is never its own draw.
-    if (first) link.judged_fraction = drawn.unoccluded > 0.0f ? drawn.visible() / drawn.unoccluded : 1.0f;
+    if (first) {
+      link.coefficients = drawn;
+      link.judged_fraction = link.drawn_fraction();
+    }
     const int more = drawn.unoccluded > 0.0f ? noise_bounded_k(g, p.vertex, link, drawn) : k;
     if (first && drawn.unoccluded > 0.0f) {
       drawn = coefficients(g, p.vertex, link.shooter, more, 1, local);

@@ -567,6 +567,30 @@ class LinearSolver::ReceiverTests {
     return false;
   }
 
+  // What every graph together misplaces across the edge, against what R
+  // reflects: beside a concave junction each shooter bends the same way,
+  // and no one graph's part reaches kSurfacePowerTolerance while the sum
+  // does (docs/accuracy.md, "The sum of the graphs"). The sum's second
+  // difference is the reflected radiance's at the edge's four vertices. This
+  // graph splits when it bends at least as much as the sum does, relative
+  // to what each carries there; at least one graph does.
+  bool bends_with_the_sum(const std::array<double, 4>& w, const std::array<int, 4>& idx, double second_difference,
+                          NodeId leaf, NodeId across) const {
+    double total_second = 0.0, total = 0.0, own_sum = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      const double reflected = luminance(st_.radiance[g_.vertex(idx[i])]) - emitted_;
+      total_second += w[i] * reflected;
+      total += reflected;
+      own_sum += own(idx[i]);
+    }
+    const double total_misplaced = 0.5 * std::abs(total_second) * (model_.area(r_, leaf) + model_.area(r_, across));
+    if (M_PI * total_misplaced < kSurfacePowerTolerance * receiver_power_ || !(own_sum > 0.0) || !(total > 0.0)) {
+      return false;
+    }
+    const double same_sign = total_second > 0.0 ? second_difference : -second_difference;
+    return same_sign * total >= std::abs(total_second) * own_sum;
+  }
+
   // Whether the edge between e's two triangles asks for both to be split.
   bool edge_refines(NodeId leaf, const OracleEdge& e) const {
     const NodeId across = e.right;
@@ -596,7 +620,8 @@ class LinearSolver::ReceiverTests {
     // edge misplaces enough of the scene's power, but the loss is a few
     // per cent of the part's own (docs/accuracy.md, "A surface's own power").
     const bool by_power = M_PI * misplaced >= kPowerTolerance * solver_.total_emitted_power_ ||
-                          M_PI * misplaced >= kSurfacePowerTolerance * receiver_power_;
+                          M_PI * misplaced >= kSurfacePowerTolerance * receiver_power_ ||
+                          bends_with_the_sum(w, idx, second_difference, leaf, across);
     // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
     const double pixels = solver_.node_importance(r_, leaf) + solver_.node_importance(r_, across);
     const double eps_pixel = solver_.options_.eps_pixel;
@@ -628,6 +653,7 @@ class LinearSolver::ReceiverTests {
     Rgb reflected = st_.clusters.radiance[0];
     const Rgb& emission = model_.material(r_).emission;
     for (int k = 0; k < 3; ++k) reflected[k] = std::max(0.0, reflected[k] - emission[k]);
+    emitted_ = luminance(emission);
     receiver_power_ = M_PI * model_.surface_area(r_) *
                       std::max(luminance(reflected), kRelativeErrorFloor * solver_.adaptation_);
   }
@@ -662,6 +688,7 @@ class LinearSolver::ReceiverTests {
   double shooter_area_ = 0.0;
   double shooter_power_ = 0.0;
   double receiver_power_ = 0.0;
+  double emitted_ = 0.0;  // R's own emitted luminance
   Vec3 shooter_centre_{0, 0, 0};
   std::vector<float>* facet_spread_ = nullptr;  // curved receivers only
   std::vector<Rgb> gathered_;  // per graph vertex

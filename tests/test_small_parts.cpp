@@ -11,7 +11,9 @@
 // Between the vertices, the interpolant must hold a part's power: where a
 // leg stands 1 cm proud of an apron, the apron's radiance bends down into
 // the corner over a centimetre, and an element several centimetres wide
-// cuts under it (docs/accuracy.md, "A surface's own power").
+// cuts under it (docs/accuracy.md, "A surface's own power"). That must hold
+// however many shooters share the light: the same room with its walls cut
+// into tiles (docs/accuracy.md, "The sum of the graphs").
 
 #include <gtest/gtest.h>
 
@@ -32,13 +34,32 @@ namespace {
 
 // A closed 4 x 2.7 x 4 room (ρ 0.6) lit by a square lamp under its ceiling,
 // with a table (ρ 0.5) as furniture is built: a top with an overhang, four
-// legs, and aprons set 1 cm behind the legs' faces.
-Scene room_with_a_table() {
+// legs, and aprons set 1 cm behind the legs' faces. With tiles > 1 each of
+// the room's six faces is cut into tiles x tiles squares, each a surface of
+// its own: the same room, with 6 tiles² shooters instead of 6.
+Scene room_with_a_table(int tiles = 1) {
   PolygonSoup soup;
   soup.materials = {test::grey_material("wall", 0.6), test::grey_material("wood", 0.5),
                     test::grey_material("lamp", 0.0, 20.0)};
   soup.groups = {"room", "top", "legs", "aprons", "lamp"};
-  test::add_box(soup, Vec3(0, 0, 0), Vec3(4, 2.7, 4), true, 0, 0);
+  if (tiles == 1) {
+    test::add_box(soup, Vec3(0, 0, 0), Vec3(4, 2.7, 4), true, 0, 0);
+  } else {
+    PolygonSoup room;
+    test::add_box(room, Vec3(0, 0, 0), Vec3(4, 2.7, 4), true, 0, 0);
+    for (const InputFace& face : room.faces) {
+      const Vec3 a = room.points[face.vertices[0]], b = room.points[face.vertices[1]],
+                 d = room.points[face.vertices[3]];
+      const auto at = [&](int i, int j) { return a + (b - a) * (double(i) / tiles) + (d - a) * (double(j) / tiles); };
+      for (int i = 0; i < tiles; ++i) {
+        for (int j = 0; j < tiles; ++j) {
+          soup.groups.push_back("tile" + std::to_string(soup.groups.size()));
+          const int group = static_cast<int>(soup.groups.size()) - 1;
+          test::add_quad(soup, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), 0, group);
+        }
+      }
+    }
+  }
   const double x0 = 1.2, x1 = 2.8, z0 = 1.5, z1 = 2.5, under = 0.71;
   test::add_box(soup, Vec3(x0, under, z0), Vec3(x1, 0.75, z1), false, 1, 1);
   for (const double lx : {x0 + 0.05, x1 - 0.11}) {
@@ -120,6 +141,49 @@ TEST(SmallParts, VertexValuesAreThePathTracersWithFewRaysALink) {
   }
 }
 
+// The aprons' long faces (8 of them): ∫ L dA of the exported interpolant
+// against the area times the path tracer's mean over uniform points (4000
+// points, 16 paths each).
+struct ApronFace {
+  std::string name;
+  double solved = 0.0, traced = 0.0;
+};
+
+std::vector<ApronFace> aprons_power(const Scene& scene, const MeshedScene& model, const LinearSolver& solver) {
+  const PathTracer tracer(scene);
+  constexpr int kPoints = 4000;
+  std::vector<ApronFace> faces;
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    const Surface& surface = scene.surfaces[s];
+    if (surface.name.rfind("aprons", 0) != 0 || surface.points.size() != 4) continue;
+    const double area = model.surface_area(s);
+    if (area < 0.04) continue;  // the top, bottom and ends
+    ApronFace face{surface.name};
+    const ConformingMesh mesh = model.hierarchy(s).conforming_mesh();
+    const std::vector<Rgb> values = solver.vertex_radiance(s, mesh);
+    for (const auto fh : mesh.mesh.faces()) {
+      double mean = 0.0;
+      for (const auto vh : mesh.mesh.fv_range(fh)) mean += luminance(values[vh.idx()]) / 3.0;
+      face.solved += mean * mesh.mesh.calc_face_area(fh);
+    }
+    // A rectangle: p0 + u (p1 - p0) + v (p3 - p0).
+    const std::vector<Vec3>& p = surface.points;
+    Vec3 inside(0, 0, 0);
+    for (const Vec3& q : p) inside += q / 4.0;
+    for (int k = 0; k < kPoints; ++k) {
+      const double u = unit_double(sample_key(s, k, 1)), v = unit_double(sample_key(s, k, 2));
+      const Vec3 x = p[0] + u * (p[1] - p[0]) + v * (p[3] - p[0]);
+      const std::optional<SurfaceStart> start = tracer.surface_start(x, surface.normal, inside);
+      EXPECT_TRUE(start) << "point " << x << " of " << surface.name;
+      if (!start) return {};
+      for (int j = 0; j < 16; ++j) face.traced += luminance(tracer.sample_radiance(*start, sample_key(s, k, 3 + j)));
+    }
+    face.traced *= area / (16.0 * kPoints);
+    faces.push_back(face);
+  }
+  return faces;
+}
+
 TEST(SmallParts, TheInterpolantHoldsEachApronsPower) {
   const Scene scene = room_with_a_table();
   MeshedScene model(scene, default_meshing(scene));
@@ -127,50 +191,44 @@ TEST(SmallParts, TheInterpolantHoldsEachApronsPower) {
   LinearSolver solver(model, options);
   solver.solve();
 
-  const PathTracer tracer(scene);
-  constexpr int kPoints = 4000;
-  // The aprons' two long faces each: ∫ L dA of the exported interpolant
-  // against the area times the path tracer's mean over uniform points
-  // (4000 points, 16 paths each).
-  int faces = 0;
+  const std::vector<ApronFace> faces = aprons_power(scene, model, solver);
+  ASSERT_EQ(faces.size(), 8u);
   double all_solved = 0.0, all_traced = 0.0;
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    const Surface& surface = scene.surfaces[s];
-    if (surface.name.rfind("aprons", 0) != 0 || surface.points.size() != 4) continue;
-    const double area = model.surface_area(s);
-    if (area < 0.04) continue;  // the top, bottom and ends
-    ++faces;
-    const SurfaceHierarchy& h = model.hierarchy(s);
-    const ConformingMesh mesh = h.conforming_mesh();
-    const std::vector<Rgb> values = solver.vertex_radiance(s, mesh);
-    double solved = 0.0;
-    for (const auto fh : mesh.mesh.faces()) {
-      double mean = 0.0;
-      for (const auto vh : mesh.mesh.fv_range(fh)) mean += luminance(values[vh.idx()]) / 3.0;
-      solved += mean * mesh.mesh.calc_face_area(fh);
-    }
-    // A rectangle: p0 + u (p1 - p0) + v (p3 - p0).
-    const std::vector<Vec3>& p = surface.points;
-    Vec3 inside(0, 0, 0);
-    for (const Vec3& q : p) inside += q / 4.0;
-    double traced = 0.0;
-    for (int k = 0; k < kPoints; ++k) {
-      const double u = unit_double(sample_key(s, k, 1)), v = unit_double(sample_key(s, k, 2));
-      const Vec3 x = p[0] + u * (p[1] - p[0]) + v * (p[3] - p[0]);
-      const std::optional<SurfaceStart> start = tracer.surface_start(x, surface.normal, inside);
-      ASSERT_TRUE(start) << "point " << x << " of " << surface.name;
-      for (int j = 0; j < 16; ++j) traced += luminance(tracer.sample_radiance(*start, sample_key(s, k, 3 + j)));
-    }
-    traced *= area / (16.0 * kPoints);
+  for (const ApronFace& face : faces) {
     // Refined only against the scene's power, four faces read 0.895–0.931
     // (the two under the table, which see its dark underside, among them);
     // now the worst reads 0.954.
-    EXPECT_NEAR(solved / traced, 1.0, 0.07) << surface.name;
-    all_solved += solved;
-    all_traced += traced;
+    EXPECT_NEAR(face.solved / face.traced, 1.0, 0.07) << face.name;
+    all_solved += face.solved;
+    all_traced += face.traced;
   }
-  EXPECT_EQ(faces, 8);
   // All eight: 0.942 refined only against the scene's power, 0.982 now.
+  EXPECT_NEAR(all_solved / all_traced, 1.0, 0.03);
+}
+
+// Cutting the room's walls into tiles changes nothing in the room, but each
+// tile is a shooter of its own, and each graph now carries a small share of
+// what the aprons receive. Judged graph by graph against the aprons' power,
+// no one graph's bend into the corners beside the legs was enough to split
+// there any more (docs/accuracy.md, "The sum of the graphs").
+TEST(SmallParts, WallsCutIntoTilesLeaveTheApronsResolved) {
+  const Scene scene = room_with_a_table(4);
+  MeshedScene model(scene, default_meshing(scene));
+  LinearOptions options = looking_at_the_table(model);
+  LinearSolver solver(model, options);
+  solver.solve();
+
+  const std::vector<ApronFace> faces = aprons_power(scene, model, solver);
+  ASSERT_EQ(faces.size(), 8u);
+  double all_solved = 0.0, all_traced = 0.0;
+  for (const ApronFace& face : faces) {
+    all_solved += face.solved;
+    all_traced += face.traced;
+  }
+  // The bound the room with whole walls is held to. Judged graph by graph
+  // the eight faces read 0.969 in all; the exported mesh's interpolant of
+  // the path tracer's own values then missed 2.9 % of their power
+  // (tools/midpoint-probe.py), 1.7 % judged by the sum.
   EXPECT_NEAR(all_solved / all_traced, 1.0, 0.03);
 }
 

@@ -5,6 +5,12 @@
     lhr reference SCENE --at-vertices D/split.ply --spp 4096 --out D/split-ref.ply
     tools/midpoint-probe.py compare D/mesh.ply D/split-ref.ply --obj SCENE.obj
 
+    tools/midpoint-probe.py crop D/mesh.ply D/part.ply --obj SCENE.obj --region PREFIX
+
+`crop` keeps the triangles of the OBJ regions whose name starts with PREFIX
+(e.g. `dining_table_apron`), with their vertices' values, so that only a
+part of a large scene is traced: split and compare D/part.ply instead.
+
 `split` cuts every triangle of an exported mesh into four at its edge
 midpoints (positions only), so that the vertex reference can be traced at
 the midpoints too. `compare` then integrates each triangle two ways from the
@@ -67,6 +73,47 @@ def split(args):
     os.replace(temporary, args.out)
 
 
+def region_of(polygons, p):
+    """The OBJ region a triangle lies in (its plane, facing and polygon), or 'unmatched'."""
+    n = regions.cross(regions.sub(p[1], p[0]), regions.sub(p[2], p[0]))
+    double_area = math.sqrt(regions.dot(n, n))
+    if double_area == 0:
+        return None, 0.0
+    unit = [c / double_area for c in n]
+    centroid = [sum(q[j] for q in p) / 3 for j in range(3)]
+    for region, poly, normal, offset in polygons:
+        if regions.dot(unit, normal) > 0.999 and abs(regions.dot(normal, centroid) - offset) < 1e-3 and \
+                regions.in_polygon(centroid, poly, normal):
+            return region, double_area
+    return 'unmatched', double_area
+
+
+def crop(args):
+    vertices, faces = regions.read_ply(args.mesh)
+    polygons = [p for p in regions.obj_polygons(args.obj) if p[0].startswith(args.region)]
+    kept = []
+    for face in faces:
+        p = [(vertices[i]['x'], vertices[i]['y'], vertices[i]['z']) for i in face]
+        name, _ = region_of(polygons, p)
+        if name not in (None, 'unmatched'):
+            kept.append(face)
+    if not kept:
+        sys.exit(f'{args.mesh}: no triangle lies in a region of {args.obj} starting with {args.region!r}')
+    used = sorted({i for face in kept for i in face})
+    index = {v: k for k, v in enumerate(used)}
+    names = list(vertices[0].keys())
+    temporary = args.out + '.tmp'
+    with open(temporary, 'wb') as f:
+        f.write(('ply\nformat binary_little_endian 1.0\n' + f'element vertex {len(used)}\n' +
+                 ''.join(f'property double {n}\n' for n in names) +
+                 f'element face {len(kept)}\nproperty list uchar int vertex_indices\nend_header\n').encode())
+        for i in used:
+            f.write(struct.pack(f'<{len(names)}d', *[float(vertices[i][n]) for n in names]))
+        for face in kept:
+            f.write(struct.pack('<B3i', 3, *[index[i] for i in face]))
+    os.replace(temporary, args.out)
+
+
 def compare(args):
     vertices, faces = regions.read_ply(args.mesh)
     traced, _ = regions.read_ply(args.reference)
@@ -78,18 +125,9 @@ def compare(args):
     sums = {}
     for face in faces:
         p = [(vertices[i]['x'], vertices[i]['y'], vertices[i]['z']) for i in face]
-        n = regions.cross(regions.sub(p[1], p[0]), regions.sub(p[2], p[0]))
-        double_area = math.sqrt(regions.dot(n, n))
-        if double_area == 0:
+        name, double_area = region_of(polygons, p)
+        if name is None:
             continue
-        unit = [c / double_area for c in n]
-        centroid = [sum(q[j] for q in p) / 3 for j in range(3)]
-        name = 'unmatched'
-        for region, poly, normal, offset in polygons:
-            if regions.dot(unit, normal) > 0.999 and abs(regions.dot(normal, centroid) - offset) < 1e-3 and \
-                    regions.in_polygon(centroid, poly, normal):
-                name = region
-                break
         edges = [index[tuple(sorted((face[k], face[(k + 1) % 3])))] for k in range(3)]
         s = sums.setdefault(name, [0.0, 0.0, 0.0, 0.0])
         s[0] += double_area / 2
@@ -113,8 +151,13 @@ def main():
     c.add_argument('mesh')
     c.add_argument('reference')
     c.add_argument('--obj', required=True)
+    k = sub.add_parser('crop', help='keep the triangles of some OBJ regions, with their values')
+    k.add_argument('mesh')
+    k.add_argument('out')
+    k.add_argument('--obj', required=True)
+    k.add_argument('--region', required=True, help='keep regions whose name starts with this')
     args = parser.parse_args()
-    split(args) if args.command == 'split' else compare(args)
+    {'split': split, 'compare': compare, 'crop': crop}[args.command](args)
 
 
 if __name__ == '__main__':

@@ -575,7 +575,7 @@ class LinearSolver::ReceiverTests {
   // graph splits when it bends at least as much as the sum does, relative
   // to what each carries there; at least one graph does.
   bool bends_with_the_sum(const std::array<double, 4>& w, const std::array<int, 4>& idx, double second_difference,
-                          NodeId leaf, NodeId across) const {
+                          double area) const {
     double total_second = 0.0, total = 0.0, own_sum = 0.0;
     for (int i = 0; i < 4; ++i) {
       const double reflected = luminance(st_.radiance[g_.vertex(idx[i])]) - emitted_;
@@ -583,7 +583,7 @@ class LinearSolver::ReceiverTests {
       total += reflected;
       own_sum += own(idx[i]);
     }
-    const double total_misplaced = 0.5 * std::abs(total_second) * (model_.area(r_, leaf) + model_.area(r_, across));
+    const double total_misplaced = 0.5 * std::abs(total_second) * area;
     if (M_PI * total_misplaced < kSurfacePowerTolerance * receiver_power_ || !(own_sum > 0.0) || !(total > 0.0)) {
       return false;
     }
@@ -614,14 +614,15 @@ class LinearSolver::ReceiverTests {
     // sum (docs/accuracy.md, "Concave junctions").
     double second_difference = 0.0;
     for (int i = 0; i < 4; ++i) second_difference += w[i] * own(idx[i]);
-    const double misplaced = 0.5 * std::abs(second_difference) * (model_.area(r_, leaf) + model_.area(r_, across));
+    const double area = model_.area(r_, leaf) + model_.area(r_, across);
+    const double misplaced = 0.5 * std::abs(second_difference) * area;
     // And small against what R itself reflects: on a small part beside
     // a concave junction (an apron where a leg stands 1 cm proud of it) no
     // edge misplaces enough of the scene's power, but the loss is a few
     // per cent of the part's own (docs/accuracy.md, "A surface's own power").
     const bool by_power = M_PI * misplaced >= kPowerTolerance * solver_.total_emitted_power_ ||
                           M_PI * misplaced >= kSurfacePowerTolerance * receiver_power_ ||
-                          bends_with_the_sum(w, idx, second_difference, leaf, across);
+                          bends_with_the_sum(w, idx, second_difference, area);
     // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.
     const double pixels = solver_.node_importance(r_, leaf) + solver_.node_importance(r_, across);
     const double eps_pixel = solver_.options_.eps_pixel;

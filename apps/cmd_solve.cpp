@@ -65,7 +65,9 @@ int run_solve(const Args& args) {
        "fraction of the emitted power")
       ("eps-bf", double_value(ClassicalOptions{}.eps_bf),
        "classical: refine a link while shooter radiance x form factor, or the spread of the shooter's leaves "
-       "about its value x form factor, exceeds this fraction of the brightest emitted radiance")
+       "about its value x form factor, exceeds this fraction of the brightest emitted radiance; and split a "
+       "shooter for all its receivers while what its spread may misplace over all of them together exceeds "
+       "this fraction of the emitted power")
       ("min-edge", po::value<double>(),
        "smallest element edge (default h/32, finer toward a small surface and on a thin one: docs/design.md, "
        "\"Limits the user controls\")")

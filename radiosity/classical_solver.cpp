@@ -38,6 +38,7 @@ ClassicalSolver::ClassicalSolver(MeshedScene& model, const ClassicalOptions& opt
   surfaces_.resize(model_.num_surfaces());
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     max_emitted_ = std::max(max_emitted_, luminance(model_.material(s).emission));
+    emitted_power_ += luminance(model_.material(s).emission) * model_.surface_area(s);
   }
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     sync_node_arrays(s);
@@ -320,7 +321,16 @@ bool ClassicalSolver::refine_links() {
   const double coefficient_seconds = stats_.seconds_coefficients;
   PhaseTimer timer(stats_.seconds_refine);
   const double threshold = options_.eps_bf * max_emitted_;
+  // Links on a node split since they were made (as a shooter) go down to its
+  // four children in this pass whatever the budget: they count as made.
   std::size_t links_now = count_links();
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    const auto& links = surfaces_[s].links;
+    for (NodeId n = 0; n < static_cast<NodeId>(links.size()); ++n) {
+      if (!links[n].empty() && !h.is_leaf(n)) links_now += 3 * links[n].size();
+    }
+  }
   if (budget_.counts_bytes()) collect_memory_stats();
   budget_.plan(links_now, stats_.bytes_total());
   std::vector<PendingLink> pending;
@@ -350,6 +360,15 @@ bool ClassicalSolver::refine_links() {
       sync_node_arrays(e.surface);
     }
   };
+  // Links a shooter split adds: its children for it, and a leaf split as a
+  // shooter then hands the links it receives to its four children.
+  const auto shooter_split_adds = [&](const Element& e) -> std::size_t {
+    if (is_cluster(e)) {
+      const RootCluster& c = cluster(e);
+      return (c.first_child >= 0 ? 2 : c.roots.size()) - 1;
+    }
+    return 3 + (model_.hierarchy(e.surface).is_leaf(e.node) ? 3 * surfaces_[e.surface].links[e.node].size() : 0);
+  };
   const auto children_of = [&](const Element& e) {
     std::vector<Element> out;
     if (is_cluster(e)) {
@@ -367,6 +386,8 @@ bool ClassicalSolver::refine_links() {
     return out;
   };
 
+  const ShooterErrors misplaced = shooter_errors();
+  const double misplaced_threshold = options_.eps_bf * emitted_power_;
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     // Nodes created during this pass have no links yet: the pass goes one level deeper at most.
     const NodeId count = static_cast<NodeId>(model_.hierarchy(s).num_nodes());
@@ -394,18 +415,32 @@ bool ClassicalSolver::refine_links() {
             std::max(luminance(element_radiance(link.shooter)), luminance(element_spread(link.shooter))) * link.oracle;
         const bool can_receiver = splittable(receiver, link.shooter.surface);
         const bool can_shooter = splittable(link.shooter, s);
-        if (!(transfer > threshold) || (!can_receiver && !can_shooter)) {
+        // The shooter's one value misplaces too much power over all the
+        // receivers that take it together (docs/accuracy.md, "The classical
+        // method's whole-surface links"): only its own children can help.
+        const bool misplaces = can_shooter && misplaced.of(link.shooter) > misplaced_threshold;
+        if (!(transfer > threshold || misplaces) || (!can_receiver && !can_shooter)) {
           kept.push_back(link);
           continue;
         }
-        // Hanrahan: split the larger of the two.
-        if (can_receiver && (!can_shooter || element_area(receiver) >= element_area(link.shooter))) {
+        // Hanrahan: split the larger of the two. The budget is asked for what
+        // the split adds: a receiver hands every link it holds to four
+        // children, a shooter is replaced by its children.
+        const bool split_receiver = transfer > threshold && can_receiver &&
+                                    (!can_shooter || element_area(receiver) >= element_area(link.shooter));
+        const std::size_t added =
+            split_receiver ? 3 * (list.size() + local.size()) : shooter_split_adds(link.shooter);
+        if (budget_.refuses(links_now, added, stats_)) {
+          kept.push_back(link);
+          continue;
+        }
+        if (split_receiver) {
           push_down = true;
           kept.push_back(link);
         } else {
           const std::vector<Element> children = children_of(link.shooter);
           for (const Element& child : children) local.push_back({receiver, child, 0.0f});
-          links_now += children.size() - 1;
+          links_now += added;
         }
       }
       if (push_down) {
@@ -432,6 +467,42 @@ bool ClassicalSolver::refine_links() {
   // The coefficients of the new links count as their own phase.
   stats_.seconds_refine -= stats_.seconds_coefficients - coefficient_seconds;
   return changed;
+}
+
+ClassicalSolver::ShooterErrors ClassicalSolver::shooter_errors() const {
+  ShooterErrors out;
+  out.nodes.resize(surfaces_.size());
+  out.clusters.resize(surfaces_.size());
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    out.nodes[s].assign(surfaces_[s].radiance.size(), 0.0);
+    out.clusters[s].assign(surfaces_[s].clusters.tree.size(), 0.0);
+  }
+  // What a link misplaces is at most F × the shooter's spread, reflected by
+  // the receiver over its area (a leaf's spread is 0: it stands for itself).
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    const double rho = luminance(model_.material(s).reflectance);
+    const SurfaceState& st = surfaces_[s];
+    for (NodeId n = 0; n < static_cast<NodeId>(st.links.size()); ++n) {
+      const double weight = rho * model_.area(s, n);
+      for (const Link& l : st.links[n]) {
+        const double error = weight * l.form_factor * luminance(element_spread(l.shooter));
+        if (!(error > 0.0)) continue;
+        if (is_cluster(l.shooter)) {
+          out.clusters[l.shooter.surface][cluster_index(l.shooter)] += error;
+        } else {
+          out.nodes[l.shooter.surface][l.shooter.node] += error;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+double ClassicalSolver::ShooterErrors::of(const Element& e) const {
+  if (is_cluster(e)) return clusters[e.surface][cluster_index(e)];
+  const std::vector<double>& v = nodes[e.surface];
+  // A node split in this pass has no links yet, hence no error of its own.
+  return static_cast<std::size_t>(e.node) < v.size() ? v[e.node] : 0.0;
 }
 
 void ClassicalSolver::gather() {

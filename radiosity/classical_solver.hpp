@@ -35,7 +35,9 @@ struct ClassicalOptions {
   // A link from shooter j to receiver i is refined while L_j·F_ij, or the
   // spread of j's leaves about L_j times F_ij (how far L_j may be from what
   // i sees of j, shooter_spread.hpp), exceeds eps_bf times the brightest
-  // emitted luminance.
+  // emitted luminance; and j is split for all its receivers while the power
+  // its spread may misplace over all of them together, Σ ρ_i A_i F_ij
+  // spread_j, exceeds eps_bf times the emitted power.
   double eps_bf = 1e-3;
   // Elements whose edges are shorter than this (scene units) are not split;
   // 0 = h/32, less toward surfaces smaller than that (radiosity/element_floor.hpp).
@@ -121,8 +123,17 @@ class ClassicalSolver {
     float oracle = 0.0f;
   };
 
+  // Per shooter element (node or cluster), the power its one value may
+  // misplace summed over every link that takes it: Σ ρ_i A_i F_ij spread_j.
+  struct ShooterErrors {
+    std::vector<std::vector<double>> nodes;     // per surface, per node
+    std::vector<std::vector<double>> clusters;  // per surface, per cluster
+    double of(const Element& e) const;
+  };
+
   void link_surfaces();
   bool refine_links();
+  ShooterErrors shooter_errors() const;
   void compute_coefficients(std::vector<PendingLink>& pending);
   float coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const;
   double estimate_form_factor(const Element& receiver, const Element& shooter) const;
@@ -144,6 +155,9 @@ class ClassicalSolver {
   ClassicalOptions options_;
   std::vector<SurfaceState> surfaces_;
   double max_emitted_ = 0.0;
+  // Σ emitted luminance × area over the emitters: what ε_BF scales in the
+  // summed test (radiance units; π left out on both sides).
+  double emitted_power_ = 0.0;
   ElementFloor floor_;
   LinkBudget budget_;
   ClassicalStats stats_;

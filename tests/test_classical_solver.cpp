@@ -65,5 +65,57 @@ TEST(ClassicalSolver, ABlackReceiverGetsNoLinks) {
   }
 }
 
+
+TEST(ClassicalSolver, WallsInACornerGetWhatTheirNeighbourShoots) {
+  // Two walls meeting in a corner under a ceiling light. The exact answer on
+  // the solver's own leaves: each leaf's radiance is the light's closed form
+  // at its centre plus ρ Σ F(centre → leaf j) L_j over every leaf j of the
+  // other wall. The walls are brighter near their common corner, where each
+  // sees most of the other, so a link to the other wall as a whole, with its
+  // mean, gave every leaf too little: about 5 % of what the walls exchange,
+  // more as ε_BF shrank (docs/accuracy.md, "The classical method's
+  // whole-surface links"). Each wall's mean must now be within 1.5 % of it.
+  const double w = 4, h = 2.5, d = 4, size = 0.5, rho = 0.7, le = 10;
+  PolygonSoup soup;
+  soup.materials = {test::grey_material("wall", rho), test::grey_material("light", 0.0, le)};
+  soup.groups = {"north", "east", "light"};
+  test::add_quad(soup, Vec3(0, 0, 0), Vec3(w, 0, 0), Vec3(w, h, 0), Vec3(0, h, 0), 0, 0);
+  test::add_quad(soup, Vec3(w, 0, 0), Vec3(w, 0, d), Vec3(w, h, d), Vec3(w, h, 0), 0, 1);
+  const double y = h - 1e-3, lo = w / 2 - size / 2, hi = w / 2 + size / 2;
+  const std::vector<Vec3> light{Vec3(lo, y, lo), Vec3(hi, y, lo), Vec3(hi, y, hi), Vec3(lo, y, hi)};
+  test::add_quad(soup, light[0], light[1], light[2], light[3], 1, 2);
+  const Scene scene = test::scene_from_soup(soup, "corner");
+  MeshingOptions meshing;
+  meshing.max_edge = 1.0;
+  MeshedScene model(scene, meshing);
+  ClassicalOptions options;
+  options.eps_bf = 3e-4;
+  ClassicalSolver solver(model, options);
+  solver.solve();
+  std::vector<int> walls;
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    if (model.material(s).name == "wall") walls.push_back(s);
+  }
+  ASSERT_EQ(walls.size(), 2u);
+  for (int r : walls) {
+    const int other = r == walls[0] ? walls[1] : walls[0];
+    double area = 0, solved = 0, exchanged = 0, expected = 0;
+    for (NodeId leaf : model.hierarchy(r).leaves()) {
+      const Vec3 x = model.centroid(r, leaf), n = model.normal(r, leaf);
+      double seen = 0;
+      for (NodeId j : model.hierarchy(other).leaves()) {
+        seen += point_triangle_form_factor(x, n, model.triangle(other, j)) * solver.radiance(other, j)[0];
+      }
+      const double a = model.area(r, leaf);
+      area += a;
+      solved += a * solver.radiance(r, leaf)[0];
+      exchanged += a * rho * seen;
+      expected += a * (rho * le * point_polygon_form_factor(x, n, light) + rho * seen);
+    }
+    EXPECT_NEAR(solved / area, expected / area, 0.015 * exchanged / area)
+        << "wall " << r << ": exchanged " << exchanged / area << " of " << expected / area;
+  }
+}
+
 }  // namespace
 }  // namespace lhr

@@ -6,7 +6,9 @@
 // OpenMesh's colour property copies a default-constructed VectorT<uchar,3>,
 // which is unset on purpose; GCC flags it where request_vertex_colors() is
 // instantiated. Every colour the tests compare is read from a file.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include <gtest/gtest.h>
 

@@ -16,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 build=${LHR_ASAN_BUILD_DIR:-build-asan}
-cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DLHR_SANITIZE=ON -DLHR_BUILD_BENCHMARKS=OFF >/dev/null
+cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DLHR_SANITIZE=ON -DLHR_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)"
 # The tests run the `lhr` executable too; it inherits these settings.
 # intercept_tls_get_addr=0: the sanitizer runtimes of GCC <= 13 and LLVM <= 16

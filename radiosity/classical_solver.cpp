@@ -413,8 +413,20 @@ bool ClassicalSolver::refine_links() {
         // this receiver sees of it (shooter_spread.hpp): F times its spread.
         const double transfer =
             std::max(luminance(element_radiance(link.shooter)), luminance(element_spread(link.shooter))) * link.oracle;
-        const bool can_receiver = splittable(receiver, link.shooter.surface);
-        const bool can_shooter = splittable(link.shooter, s);
+        // Below the scene's floor (toward a small partner, or across a thin
+        // surface) a split must also move power: what the link may get
+        // wrong over its receiver, transfer × area, against eps_bf of the
+        // emitted power. A small light's spot passes; a sliver 10⁴ times
+        // longer than wide, whose floor is an eighth of its width, no
+        // longer splits into 10⁵ elements that change nothing
+        // (docs/accuracy.md, "Splits below the scene's floor").
+        const bool moves_power = transfer * element_area(receiver) > misplaced_threshold;
+        const auto may_split = [&](const Element& e, int partner) {
+          return splittable(e, partner) &&
+                 (is_cluster(e) || moves_power || !floor_.below_scene_floor(model_.area(e.surface, e.node)));
+        };
+        const bool can_receiver = may_split(receiver, link.shooter.surface);
+        const bool can_shooter = may_split(link.shooter, s);
         // The shooter's one value misplaces too much power over all the
         // receivers that take it together (docs/accuracy.md, "The classical
         // method's whole-surface links"): only its own children can help.

@@ -43,6 +43,7 @@ double width_of(const MeshedScene& model, int s) {
 
 ElementFloor::ElementFloor(const MeshedScene& model, double min_edge) {
   const double scene_floor = min_edge > 0 ? min_edge : model.max_edge() / 32.0;
+  scene_min_area_ = area_of_edge(scene_floor);
   for (int s = 0; s < model.num_surfaces(); ++s) {
     double edge = scene_floor;
     if (!(min_edge > 0)) {

@@ -45,9 +45,15 @@ class ElementFloor {
     return area > 4.0 * std::min(min_area_[partner], own_min_area_[self]);
   }
 
+  // A split of a node with this area goes below the floor every surface
+  // has (the user's, or h/32): only a small partner or a thin surface of
+  // its own allows it.
+  bool below_scene_floor(double area) const { return area <= 4.0 * scene_min_area_; }
+
  private:
   std::vector<double> min_area_;
   std::vector<double> own_min_area_;
+  double scene_min_area_ = 0.0;
 };
 
 }  // namespace lhr

@@ -173,6 +173,18 @@ inline Scene furnace_sphere() {
   return scene_from_soup(soup, "furnace sphere");
 }
 
+// A 1 × 10⁻⁴ strip (aspect 10⁴, ρ 0.8) standing across a unit floor (ρ 0.5)
+// under a unit light (Le 1) at height 1, facing down.
+inline Scene sliver_on_lit_floor() {
+  PolygonSoup soup;
+  soup.materials = {grey_material("floor", 0.5), grey_material("light", 0.0, 1.0), grey_material("strip", 0.8)};
+  soup.groups = {"floor", "light", "strip"};
+  add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
+  add_quad(soup, Vec3(0, 0, 1), Vec3(0, 1, 1), Vec3(1, 1, 1), Vec3(1, 0, 1), 1, 1);
+  add_quad(soup, Vec3(0, 0.5, 0), Vec3(1, 0.5, 0), Vec3(1, 0.5, 1e-4), Vec3(0, 0.5, 1e-4), 2, 2);
+  return scene_from_soup(soup, "sliver");
+}
+
 // A square emitter (Kd 0) of side `size` at height `height`, facing down,
 // centred over a unit receiver square in z = 0 facing up.
 inline Scene emitter_over_receiver(double size, double height, double receiver_reflectance, double emission) {

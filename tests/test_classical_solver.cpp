@@ -124,14 +124,7 @@ TEST(ClassicalSolver, ASliverIsNotSplitBelowTheSceneFloorForPowerItCannotMove) {
   // whose whole reflected power is 10⁻⁴ of the light's. Splits below the
   // scene's floor must now move eps_bf of the emitted power
   // (docs/accuracy.md, "Splits below the scene's floor"): 4 096 on the strip.
-  PolygonSoup soup;
-  soup.materials = {test::grey_material("floor", 0.5), test::grey_material("light", 0.0, 1.0),
-                    test::grey_material("strip", 0.8)};
-  soup.groups = {"floor", "light", "strip"};
-  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
-  test::add_quad(soup, Vec3(0, 0, 1), Vec3(0, 1, 1), Vec3(1, 1, 1), Vec3(1, 0, 1), 1, 1);
-  test::add_quad(soup, Vec3(0, 0.5, 0), Vec3(1, 0.5, 0), Vec3(1, 0.5, 1e-4), Vec3(0, 0.5, 1e-4), 2, 2);
-  const Scene scene = test::scene_from_soup(soup, "sliver");
+  const Scene scene = test::sliver_on_lit_floor();
   MeshingOptions meshing;
   meshing.max_edge = 0.25;
   MeshedScene model(scene, meshing);

@@ -100,13 +100,7 @@ TEST(EdgeCases, CoplanarOverlappingFacesAreFinite) {
 
 TEST(EdgeCases, SliversAreFinite) {
   // A 1 × 1e-4 strip (aspect 1e4) standing on a lit floor.
-  PolygonSoup soup;
-  soup.materials = {make_material("floor", 0.5, 0), make_material("light", 0, 1), make_material("strip", 0.8, 0)};
-  soup.groups = {"floor", "light", "strip"};
-  test::add_quad(soup, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), 0, 0);
-  test::add_quad(soup, Vec3(0, 0, 1), Vec3(0, 1, 1), Vec3(1, 1, 1), Vec3(1, 0, 1), 1, 1);
-  test::add_quad(soup, Vec3(0, 0.5, 0), Vec3(1, 0.5, 0), Vec3(1, 0.5, 1e-4), Vec3(0, 0.5, 1e-4), 2, 2);
-  const Scene scene = test::scene_from_soup(soup, "sliver");
+  const Scene scene = test::sliver_on_lit_floor();
   expect_finite_non_negative(solve_linear(scene, 0.25), "sliver, linear");
   expect_finite_non_negative(solve_classical(scene, 0.25), "sliver, classical");
 }

@@ -105,7 +105,7 @@ constexpr const char* kUsage =
 // Flags given on the command line, passed on to the runs.
 const std::set<std::string> kSolveFlags{
     "max-edge",   "min-angle", "crease-angle", "min-edge", "max-iterations", "tolerance",   "max-links",
-    "max-memory", "visibility-samples", "vis-threshold", "link-power", "threads",    "tone-map",
+    "max-memory", "visibility-samples", "vis-threshold", "link-power", "eps-vertex", "eps-power", "threads",    "tone-map",
     "adaptation", "units-to-cd", "white",    "display-max", "max-contrast", "gamma"};
 const std::set<std::string> kReferenceFlags{"threads",     "tone-map",    "adaptation",   "units-to-cd",
                                             "white",       "display-max", "max-contrast", "gamma"};
@@ -168,6 +168,8 @@ int run_bench(const Args& args) {
       ("visibility-samples", po::value<int>(), "lhr solve: k, k^2 shadow rays per link")
       ("vis-threshold", po::value<double>(), "lhr solve, linear: visibility difference threshold")
       ("link-power", po::value<double>(), "lhr solve, linear: power fraction at which a surface starts shooting")
+      ("eps-vertex", po::value<double>(), "lhr solve, linear: a node's shooter error, relative to its radiance")
+      ("eps-power", po::value<double>(), "lhr solve, linear: power an edge's interpolant may misplace")
       ("threads", po::value<int>(), "worker threads of every run (default: all cores)")
       ("quiet,q", "print nothing but errors and warnings");
   add_scene_meshing_options(visible);
@@ -214,6 +216,8 @@ int run_bench(const Args& args) {
   refuse_unless("visibility-samples", [](Value v) { return v.as<int>() >= 1; }, "at least 1");
   refuse_unless("vis-threshold", [](Value v) { return v.as<double>() > 0; }, "positive");
   refuse_unless("link-power", [](Value v) { return v.as<double>() >= 0; }, "zero or positive");
+  refuse_unless("eps-vertex", [](Value v) { return v.as<double>() >= 0; }, "0 (off) or positive");
+  refuse_unless("eps-power", [](Value v) { return v.as<double>() > 0; }, "positive");
   refuse_unless("threads", [](Value v) { return v.as<int>() >= 0; }, "0 or positive");
   if (vm.count("reference")) {
     settings.reference = vm["reference"].as<std::string>();

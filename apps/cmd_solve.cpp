@@ -58,6 +58,10 @@ int run_solve(const Args& args) {
        "linear: also refine a link when its shooter element's error reaching a node (form factor x the spread "
        "of the element's values, reflected) exceeds this fraction of the node's radiance, wherever the camera "
        "looks: the exported mesh's values near corners and contacts (0: off)")
+      ("eps-power", double_value(LinearOptions{}.eps_power),
+       "linear: also split a receiver edge, wherever the camera looks, when the reflected power its linear "
+       "interpolant misplaces reaches this fraction of the power the lights emit: the exported mesh's accuracy "
+       "in object space (smaller brings each surface's mean closer to the truth, at more elements)")
       ("vis-threshold", double_value(LinearOptions{}.vis_threshold),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
       ("link-power", double_value(LinearOptions{}.link_power),
@@ -141,6 +145,7 @@ int run_solve(const Args& args) {
   linear.eps_link = vm["eps-link"].as<double>();
   linear.vis_threshold = vm["vis-threshold"].as<double>();
   linear.eps_vertex = vm["eps-vertex"].as<double>();
+  linear.eps_power = vm["eps-power"].as<double>();
   linear.link_power = vm["link-power"].as<double>();
   classical.min_edge = linear.min_edge = min_edge;
   classical.max_iterations = linear.max_iterations = max_iterations;

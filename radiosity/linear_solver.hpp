@@ -64,6 +64,16 @@ struct LinearOptions {
   // light comes from the shooter's value right next to it, which a coarse
   // element's mean cannot stand for. 0 turns the test off.
   double eps_vertex = 0.05;
+  // Receiver refinement in object space, whatever the camera sees: a graph
+  // edge is split when the reflected power linear interpolation misplaces
+  // across it reaches this fraction of the emitted power (refine_receivers),
+  // and a leaf when what a small shooter sends into it and its interpolant
+  // disagree that much. Next to concave edges that error has one sign, a
+  // loss, and every bounce repeats it: at 10⁻⁴ a room lit only through a
+  // door lost 3 % of its light that way, and a bright closed room 1 % of its
+  // lamp's power (docs/accuracy.md, "Concave junctions"). What is left of
+  // it shrinks with this bound (docs/accuracy.md, "The power bound").
+  double eps_power = 1e-5;
   // |V1 − V2| at or above this is a visibility change (§4.1): the oracle
   // then uses the conservative max − min.
   double vis_threshold = 0.1;

@@ -26,13 +26,6 @@ namespace {
 // the adaptation luminance, so that nodes in the dark do not refine without
 // bound (the relative norm floors its errors at 1 % of the mean alike).
 constexpr double kRelativeErrorFloor = 0.01;
-// Receiver refinement in object space: a graph edge is split when the power
-// linear interpolation misplaces across it reaches this fraction of the
-// emitted power (refine_receivers). Next to concave edges that error has one
-// sign, a loss, and every bounce repeats it; at 10⁻⁴ a room lit only
-// through a door lost 3 % of its light that way, and a bright closed room
-// 1 % of its lamp's power (docs/accuracy.md, "Concave junctions").
-constexpr double kPowerTolerance = 1e-5;
 // The same, against the power the receiver surface reflects: a few edges
 // along a part's concave junctions must not add up to the 3 % a surface's
 // mean may be off by (docs/accuracy.md, "A surface's own power").
@@ -505,7 +498,7 @@ class LinearSolver::ReceiverTests {
   // vertices): S's contribution is then zero at all of them, and so is
   // every difference the edge tests look at. What S sends into the leaf,
   // taken as from a point source at S's centre, must then agree with the
-  // interpolant's power to kPowerTolerance of the emitted power. (A curved S
+  // interpolant's power to eps_power of the emitted power. (A curved S
   // has no one normal to shoot along: left to the edge tests.)
   bool misses_small_shooter(NodeId leaf) const {
     const double area = model_.area(r_, leaf);
@@ -515,7 +508,7 @@ class LinearSolver::ReceiverTests {
         shooter_power_ * point_triangle_form_factor(shooter_centre_, shooter_normal, model_.triangle(r_, leaf));
     double interpolated = 0.0;
     for (VertexId v : h_.corners(leaf)) interpolated += area / 3.0 * own(g_.index_of(v));
-    return M_PI * std::abs(sent - interpolated) >= kPowerTolerance * solver_.total_emitted_power_;
+    return M_PI * std::abs(sent - interpolated) >= solver_.options_.eps_power * solver_.total_emitted_power_;
   }
 
   // A vertex another graph has made is a vertex of the exported mesh, and
@@ -620,7 +613,7 @@ class LinearSolver::ReceiverTests {
     // a concave junction (an apron where a leg stands 1 cm proud of it) no
     // edge misplaces enough of the scene's power, but the loss is a few
     // per cent of the part's own (docs/accuracy.md, "A surface's own power").
-    const bool by_power = M_PI * misplaced >= kPowerTolerance * solver_.total_emitted_power_ ||
+    const bool by_power = M_PI * misplaced >= solver_.options_.eps_power * solver_.total_emitted_power_ ||
                           M_PI * misplaced >= kSurfacePowerTolerance * receiver_power_ ||
                           bends_with_the_sum(w, idx, second_difference, area);
     // ΔE is a display difference, at most 1: too few pixels cannot reach ε_pixel.

@@ -76,6 +76,7 @@ MethodRun run_linear(MeshedScene& model, const SolveSettings& settings, std::vec
                                   {{"eps_pixel", options.eps_pixel},
                                    {"eps_link", options.eps_link},
                                    {"eps_vertex", options.eps_vertex},
+                                   {"eps_power", options.eps_power},
                                    {"vis_threshold", options.vis_threshold},
                                    {"link_power", options.link_power}},
                                   surfaces, progress);
@@ -102,6 +103,7 @@ void check_solver_options(const SolveSettings& settings, OptionStyle style) {
     throw std::invalid_argument(option_name("eps_pixel", style) + " and " + option_name("eps_link", style) +
                                 " must be positive");
   }
+  if (!(linear.eps_power > 0) || !std::isfinite(linear.eps_power)) fail("eps_power", "positive");
   if (!(linear.vis_threshold > 0)) fail("vis_threshold", "positive");
   if (!(linear.eps_vertex >= 0) || !std::isfinite(linear.eps_vertex)) fail("eps_vertex", "0 (off) or positive");
   if (!(linear.link_power >= 0)) fail("link_power", "zero or positive");

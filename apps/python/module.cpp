@@ -105,7 +105,7 @@ using Maybe = std::optional<double>;
 using MaybeInt = std::optional<int>;
 
 SolutionArrays solve(const std::filesystem::path& path, const std::string& method, Maybe eps_pixel, Maybe eps_link,
-               Maybe eps_vertex, Maybe vis_threshold, Maybe link_power, Maybe eps_bf, Maybe min_edge,
+               Maybe eps_vertex, Maybe eps_power, Maybe vis_threshold, Maybe link_power, Maybe eps_bf, Maybe min_edge,
                MaybeInt max_iterations, Maybe tolerance, std::size_t max_links, std::optional<std::size_t> max_memory,
                MaybeInt visibility_samples, Maybe max_edge, Maybe min_angle, Maybe crease_angle,
                std::optional<std::string> tone_map, Maybe adaptation, Maybe units_to_cd, Maybe white,
@@ -122,6 +122,7 @@ SolutionArrays solve(const std::filesystem::path& path, const std::string& metho
   if (eps_pixel) linear.eps_pixel = *eps_pixel;
   if (eps_link) linear.eps_link = *eps_link;
   if (eps_vertex) linear.eps_vertex = *eps_vertex;
+  if (eps_power) linear.eps_power = *eps_power;
   if (vis_threshold) linear.vis_threshold = *vis_threshold;
   if (link_power) linear.link_power = *link_power;
   if (eps_bf) classical.eps_bf = *eps_bf;
@@ -369,7 +370,8 @@ PYBIND11_MODULE(lhr, m) {
         "file and ValueError for a bad option.",
         py::arg("path"), py::kw_only(), py::arg("method") = "linear",
         py::arg("eps_pixel").none(true) = py::none(), py::arg("eps_link").none(true) = py::none(),
-        py::arg("eps_vertex").none(true) = py::none(), py::arg("vis_threshold").none(true) = py::none(),
+        py::arg("eps_vertex").none(true) = py::none(), py::arg("eps_power").none(true) = py::none(),
+        py::arg("vis_threshold").none(true) = py::none(),
         py::arg("link_power").none(true) = py::none(), py::arg("eps_bf").none(true) = py::none(),
         py::arg("min_edge").none(true) = py::none(), py::arg("max_iterations").none(true) = py::none(),
         py::arg("tolerance").none(true) = py::none(), py::arg("max_links") = std::size_t{0},
@@ -381,7 +383,7 @@ PYBIND11_MODULE(lhr, m) {
         py::arg("max_contrast").none(true) = py::none(), py::arg("gamma").none(true) = py::none(),
         py::arg("threads") = 0);
   m.attr("DEFAULTS") = py::dict(py::arg("eps_pixel") = linear.eps_pixel, py::arg("eps_link") = linear.eps_link,
-                                py::arg("eps_vertex") = linear.eps_vertex,
+                                py::arg("eps_vertex") = linear.eps_vertex, py::arg("eps_power") = linear.eps_power,
                                 py::arg("vis_threshold") = linear.vis_threshold,
                                 py::arg("link_power") = linear.link_power, py::arg("eps_bf") = classical.eps_bf);
 

@@ -108,6 +108,7 @@ def test_broken_scene_file_raises_with_file_and_problem(tmp_path):
 @pytest.mark.parametrize("keywords, name", [
     ({"eps_link": -1.0}, "eps_link"),
     ({"eps_bf": 0.0}, "eps_bf"),
+    ({"eps_power": 0.0}, "eps_power"),
     ({"max_iterations": 0}, "max_iterations"),
     ({"max_edge": -5.0}, "max_edge"),
     ({"gamma": 0.0}, "gamma"),

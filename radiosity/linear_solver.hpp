@@ -233,6 +233,8 @@ class LinearSolver {
     double weight;
   };
   std::vector<CollocationPoint> collocation_points(int r, VertexId v) const;
+  // The one point of a vertex of a planar R.
+  ReceiverPoint planar_collocation_point(int r, VertexId v) const;
   // Exact form factor from all of surface s to R's vertex v, ignoring
   // occlusion: what coefficients() would sum to over any complete cut of s
   // with every shadow ray clear.

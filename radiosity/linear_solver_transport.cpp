@@ -68,15 +68,18 @@ std::vector<LinearSolver::ReceiverSide> LinearSolver::receiver_sides(int r, Vert
   return sides;
 }
 
-std::vector<LinearSolver::CollocationPoint> LinearSolver::collocation_points(int r, VertexId v) const {
-  const Surface& surface = model_.scene().surfaces[r];
+ReceiverPoint LinearSolver::planar_collocation_point(int r, VertexId v) const {
   ReceiverPoint point;
   point.x = model_.hierarchy(r).point(v);
-  if (surface.planar) {
-    point.normal = surface.normal;
-    point.approach = surfaces_[r].approach[v];
-    return {{point, 1.0}};
-  }
+  point.normal = model_.scene().surfaces[r].normal;
+  point.approach = surfaces_[r].approach[v];
+  return point;
+}
+
+std::vector<LinearSolver::CollocationPoint> LinearSolver::collocation_points(int r, VertexId v) const {
+  if (model_.scene().surfaces[r].planar) return {{planar_collocation_point(r, v), 1.0}};
+  ReceiverPoint point;
+  point.x = model_.hierarchy(r).point(v);
   const std::vector<ReceiverSide> sides = receiver_sides(r, v);
   double total_weight = 0.0;
   for (const ReceiverSide& side : sides) total_weight += side.weight;
@@ -99,6 +102,9 @@ TransportCoefficients LinearSolver::coefficients(const InteractionGraph& g, int 
   // Surface indices are below 2³¹: the top bit tells the draws apart.
   sampling.key = sample_key((draw << 63) | (static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r),
                             static_cast<std::uint64_t>(v), static_cast<std::uint64_t>(shooter + 2));
+  // A planar receiver's one point, without the vector (this runs for every
+  // link a solve makes).
+  if (model_.scene().surfaces[r].planar) return transport_to(planar_collocation_point(r, v), s, shooter, sampling, rays);
   const std::vector<CollocationPoint> points = collocation_points(r, v);
   if (points.size() == 1) return transport_to(points.front().point, s, shooter, sampling, rays);
   std::array<double, 3> f{0.0, 0.0, 0.0};

@@ -89,8 +89,13 @@ double visible_fraction(const ReceiverPoint& receiver, const ShooterTriangles& t
   const Vec3 origin = kernel_origin(receiver, rays);
   const std::size_t count = static_cast<std::size_t>(std::max(1, sampling.k * sampling.k));
   const double offset = unit_double(sample_key(sampling.key, 1));
-  std::vector<ShadowRay> segments;
-  std::vector<std::size_t> target;
+  // One set per thread, reused: a link's coefficients are computed millions
+  // of times in a solve, and the allocations showed in its profile.
+  thread_local std::vector<ShadowRay> segments;
+  thread_local std::vector<std::size_t> target;
+  thread_local std::vector<std::uint8_t> blocked;
+  segments.clear();
+  target.clear();
   for (std::size_t i = 0; i < count; ++i) {
     const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * cumulative.back();
     const std::size_t j = std::min<std::size_t>(
@@ -105,7 +110,7 @@ double visible_fraction(const ReceiverPoint& receiver, const ShooterTriangles& t
     }
   }
   if (segments.empty()) return 1.0;
-  std::vector<std::uint8_t> blocked(segments.size());
+  blocked.assign(segments.size(), 0);
   rays.occluded(segments, blocked);
   ray_count += segments.size();
   if (per_triangle != nullptr) {
@@ -352,7 +357,8 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver, const Sho
                                         std::span<const std::array<std::int32_t, 3>> corner_edges) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
-  std::vector<double> cumulative;
+  thread_local std::vector<double> cumulative;
+  cumulative.clear();
   const ShooterTriangleTable& table = *shooter.table;
   if (!corner_edges.empty()) {
     assert(corner_edges.size() == table.size());
@@ -375,7 +381,8 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver, const Sho
   // form factor (systematic sampling), so hidden or back-facing parts of a
   // large shooter do not dilute the parts that carry the energy.
   // Which rays arrived matters only to the shape factor.
-  std::vector<RayOutcome> outcomes;
+  thread_local std::vector<RayOutcome> outcomes;
+  outcomes.clear();
   const double visible = visible_fraction(receiver, shooter, cumulative, rays, sampling, ray_count,
                                           shape != nullptr ? &outcomes : nullptr);
   out.f[0] = static_cast<float>(ff * visible * shape_factor(cumulative, cumulative, shape, outcomes, shooter));
@@ -480,7 +487,8 @@ TransportCoefficients disc_drawn_transport(const ReceiverPoint& receiver, double
     out.f[0] = static_cast<float>(ff);
     return out;
   }
-  std::vector<RayOutcome> outcomes;
+  thread_local std::vector<RayOutcome> outcomes;
+  outcomes.clear();
   double visible = visible_fraction(receiver, triangles, weights.drawing, rays, sampling, ray_count, &outcomes);
   // The rays were drawn by the widened weights; each counts for its
   // triangle's own form factor over the weight it was drawn by, or the

@@ -200,10 +200,12 @@ std::string case_name(const ::testing::TestParamInfo<SmallLight>& info) {
 }
 
 // Every light of side 0.1 and 0.01 at a height d ≤ a, and the smallest two
-// away from the wall's middle: about a second each.
+// away from the wall's middle: about a second each. Farther off (d up to 1,
+// a hundred times the side), the spot is wide and smooth.
 INSTANTIATE_TEST_SUITE_P(Small, SmallLights,
                          ::testing::Values(SmallLight{0.1, 0.1}, SmallLight{0.1, 0.01}, SmallLight{0.1, 0.001},
                                            SmallLight{0.01, 0.01}, SmallLight{0.01, 0.001},
+                                           SmallLight{0.1, 1}, SmallLight{0.01, 0.1}, SmallLight{0.01, 1},
                                            SmallLight{0.1, 0.001, 2.2222, 7.377},
                                            SmallLight{0.01, 0.001, 5.3137, 4.7711}),
                          case_name);

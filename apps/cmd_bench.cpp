@@ -104,9 +104,9 @@ constexpr const char* kUsage =
 
 // Flags given on the command line, passed on to the runs.
 const std::set<std::string> kSolveFlags{
-    "max-edge",   "min-angle", "crease-angle", "min-edge", "max-iterations", "tolerance",   "max-links",
-    "max-memory", "visibility-samples", "vis-threshold", "link-power", "eps-vertex", "eps-power", "threads",    "tone-map",
-    "adaptation", "units-to-cd", "white",    "display-max", "max-contrast", "gamma"};
+    "max-edge",   "min-angle",   "crease-angle", "min-edge",   "max-iterations", "tolerance",  "max-links",
+    "max-memory", "visibility-samples", "vis-threshold", "link-power", "eps-vertex", "eps-power", "threads",
+    "tone-map",   "adaptation",  "units-to-cd",  "white",      "display-max",    "max-contrast", "gamma"};
 const std::set<std::string> kReferenceFlags{"threads",     "tone-map",    "adaptation",   "units-to-cd",
                                             "white",       "display-max", "max-contrast", "gamma"};
 

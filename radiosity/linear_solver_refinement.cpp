@@ -26,9 +26,10 @@ namespace {
 // the adaptation luminance, so that nodes in the dark do not refine without
 // bound (the relative norm floors its errors at 1 % of the mean alike).
 constexpr double kRelativeErrorFloor = 0.01;
-// The same, against the power the receiver surface reflects: a few edges
-// along a part's concave junctions must not add up to the 3 % a surface's
-// mean may be off by (docs/accuracy.md, "A surface's own power").
+// The receiver oracle's power test (LinearOptions::eps_power) against the
+// power the receiver surface reflects instead of the emitted power: a few
+// edges along a part's concave junctions must not add up to the 3 % a
+// surface's mean may be off by (docs/accuracy.md, "A surface's own power").
 constexpr double kSurfacePowerTolerance = 3e-3;
 // A graph leaf whose receiver node another graph has split already is split
 // here too when, along one of its edges, what this graph's shooter sends per

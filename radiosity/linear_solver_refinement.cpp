@@ -629,7 +629,7 @@ class LinearSolver::ReceiverTests {
     }
     edge.visibility_1 = visibility(idx[0]);
     edge.visibility_2 = visibility(idx[1]);
-    return by_power || ReceiverOracle::refines(oracle_.display_error(edge), pixels, eps_pixel);
+    return by_power || oracle_.edge_refines(edge, pixels, eps_pixel);
   }
 
  private:

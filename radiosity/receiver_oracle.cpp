@@ -66,6 +66,32 @@ void oracle_edges(const InteractionGraph& graph, const SurfaceHierarchy& receive
   }
 }
 
+bool ReceiverOracle::edge_refines(const EdgeValues& edge, double pixels, double eps_pixel) const {
+  const auto& b = edge.own;
+  if (b[0] == b[1] && b[0] == b[2] && b[0] == b[3]) return refines(0.0, pixels, eps_pixel);
+  double sum = 0.0, magnitude = 0.0;
+  for (double w : edge.weights) {
+    sum += w;
+    magnitude += std::abs(w);
+  }
+  if (std::abs(edge.visibility_1 - edge.visibility_2) < vis_threshold_) {
+    double b_min = edge.total[0] - edge.own[0];
+    for (int i = 1; i < 4; ++i) b_min = std::min(b_min, edge.total[i] - edge.own[i]);
+    b_min = std::max(0.0, b_min);
+    const auto [lo, hi] = std::minmax_element(b.begin(), b.end());
+    const double m_lo = tone_.display(b_min + *lo), m_hi = tone_.display(b_min + *hi);
+    // Σ w_i M_i = Σ w_i (M_i − M_lo) + M_lo Σ w_i, the first term between
+    // −N and P times M_hi − M_lo (P, N: the weights' positive and negative
+    // parts). Σ w_i is 0 but for rounding; what rounding adds to ΔE's own
+    // sum is covered by the last term, far above it.
+    const double positive = 0.5 * (magnitude + sum), negative = 0.5 * (magnitude - sum);
+    const double bound =
+        0.5 * (std::max(positive, negative) * (m_hi - m_lo) + std::abs(sum) * m_lo + 1e-12 * magnitude * m_hi);
+    if (bound * pixels < eps_pixel) return false;
+  }
+  return refines(display_error(edge), pixels, eps_pixel);
+}
+
 double ReceiverOracle::display_error(const EdgeValues& edge) const {
   // S gives the four vertices the same (mostly: nothing, where it is hidden
   // from all of them): no second difference and no visibility change can

@@ -224,6 +224,48 @@ TEST(ReceiverOracle, EdgeWeightsFallBackToThePapersWhereTheLinesDoNotCross) {
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(square[i], i < 2 ? 1.0 : -1.0, 1e-15);
 }
 
+// The bound edge_refines decides most edges by must never say "no" where
+// ΔE says "split": on random edges (random points, so irregular weights as
+// well as the paper's; values over six decades; every visibility case), its
+// verdict is refines(display_error) under both tone maps, at thresholds
+// around each edge's own ΔE as well as far from it.
+TEST(ReceiverOracle, TheBoundDecidesAsTheDisplayErrorDoes) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  ToneMapSettings settings;
+  settings.world_adaptation = 0.05;
+  const TumblinRushmeierToneMap tumblin(settings);
+  const LinearToneMap linear(2.0, 2.2);
+  int bounded = 0, cases = 0;
+  for (const ToneMap* tone : {static_cast<const ToneMap*>(&tumblin), static_cast<const ToneMap*>(&linear)}) {
+    const ReceiverOracle oracle(*tone, 0.1);
+    for (int n = 0; n < 20000; ++n) {
+      std::array<Vec3, 4> p;
+      for (Vec3& q : p) q = Vec3(unit(rng), unit(rng), 0.1 * unit(rng));
+      EdgeValues edge;
+      edge.weights = n % 4 == 0 ? std::array<double, 4>{1, 1, -1, -1} : edge_weights(p[0], p[1], p[2], p[3]);
+      const double scale = std::pow(10.0, -4.0 + 6.0 * unit(rng));
+      for (int i = 0; i < 4; ++i) {
+        edge.own[i] = n % 7 == 0 ? scale : scale * unit(rng);
+        edge.total[i] = edge.own[i] + scale * unit(rng);
+      }
+      edge.visibility_1 = unit(rng);
+      edge.visibility_2 = n % 2 == 0 ? edge.visibility_1 : unit(rng);
+      const double error = oracle.display_error(edge);
+      for (double pixels : {0.5, 20.0, 3000.0}) {
+        for (double eps : {error * pixels, error * pixels * (1 + 1e-12), error * pixels * 0.5, 0.3, 1e-6}) {
+          if (!(eps > 0)) continue;
+          ++cases;
+          const bool exact = ReceiverOracle::refines(error, pixels, eps);
+          ASSERT_EQ(oracle.edge_refines(edge, pixels, eps), exact) << "n " << n << ", pixels " << pixels << ", eps " << eps;
+          if (!exact) ++bounded;
+        }
+      }
+    }
+  }
+  EXPECT_GT(bounded, cases / 10) << "the cases must include edges below the threshold";
+}
+
 // docs/design.md, "One iteration": a graph is judged again, by either
 // oracle, only when its links, the hierarchy the oracle reads, or (by
 // oracle_drift, summed) the radiance, importance and adaptation it reads

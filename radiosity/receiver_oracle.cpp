@@ -14,6 +14,13 @@ constexpr double kParallelSin2 = 1e-6;
 // pair that badly shaped is left to the paper's formula.
 constexpr double kCrossingReach = 4.0;
 
+// B_min: the smallest radiance of the four vertices without S.
+double radiance_without_shooter(const EdgeValues& edge) {
+  double b_min = edge.total[0] - edge.own[0];
+  for (int i = 1; i < 4; ++i) b_min = std::min(b_min, edge.total[i] - edge.own[i]);
+  return std::max(0.0, b_min);
+}
+
 }  // namespace
 
 std::array<double, 4> edge_weights(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
@@ -75,9 +82,7 @@ bool ReceiverOracle::edge_refines(const EdgeValues& edge, double pixels, double 
     magnitude += std::abs(w);
   }
   if (std::abs(edge.visibility_1 - edge.visibility_2) < vis_threshold_) {
-    double b_min = edge.total[0] - edge.own[0];
-    for (int i = 1; i < 4; ++i) b_min = std::min(b_min, edge.total[i] - edge.own[i]);
-    b_min = std::max(0.0, b_min);
+    const double b_min = radiance_without_shooter(edge);
     const auto [lo, hi] = std::minmax_element(b.begin(), b.end());
     const double m_lo = tone_.display(b_min + *lo), m_hi = tone_.display(b_min + *hi);
     // Σ w_i M_i = Σ w_i (M_i − M_lo) + M_lo Σ w_i, the first term between
@@ -98,9 +103,7 @@ double ReceiverOracle::display_error(const EdgeValues& edge) const {
   // show, and the tone map, the oracle's cost, need not be evaluated.
   const auto& b = edge.own;
   if (b[0] == b[1] && b[0] == b[2] && b[0] == b[3]) return 0.0;
-  double b_min = edge.total[0] - edge.own[0];
-  for (int i = 1; i < 4; ++i) b_min = std::min(b_min, edge.total[i] - edge.own[i]);
-  b_min = std::max(0.0, b_min);
+  const double b_min = radiance_without_shooter(edge);
   const auto shown = [&](double value) { return tone_.display(b_min + value); };
   if (std::abs(edge.visibility_1 - edge.visibility_2) < vis_threshold_) {
     double sum = 0.0;

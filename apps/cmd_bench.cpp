@@ -19,8 +19,6 @@ namespace lhr::app {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 constexpr const char* kUsage =
     "usage: lhr bench SCENE --out DIR [--methods linear,classical,path] [--linear L/P,...]\n"
     "                 [--classical E,...] [--spp N,...] [--max-seconds S] [options]\n"
@@ -265,7 +263,7 @@ int run_bench(const Args& args) {
   if (!quiet) {
     std::ostringstream line;
     line << "lhr bench: " << finished << " of " << settings.runs.size() << " runs (" << outcome.reused
-         << " done earlier), " << std::chrono::duration<double>(Clock::now() - t_start).count() << " s -> "
+         << " done earlier), " << seconds_since(t_start) << " s -> "
          << (settings.out_dir / "bench.csv").string();
     for (const auto& chart : outcome.charts) line << ", " << chart.filename().string();
     std::cerr << line.str() << "\n";

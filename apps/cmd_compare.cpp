@@ -35,9 +35,6 @@ void require_finite(const Image& image, const std::filesystem::path& path) {
   }
 }
 
-// JSON has no infinity: an infinite value (PSNR of identical images) is null.
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 }  // namespace
 
 int run_compare(const Args& args) {

@@ -28,10 +28,6 @@ namespace lhr::app {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
 void require_extension(const std::filesystem::path& path, const char* ext, const char* flag) {
   if (path.extension() != ext) throw po::error(std::string(flag) + " must name a " + ext + " file");
 }

@@ -18,11 +18,7 @@
 
 namespace lhr::app {
 
-namespace {
-
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
-}  // namespace
 
 bool is_mesh_file(const std::filesystem::path& path) {
   std::string ext = path.extension().string();

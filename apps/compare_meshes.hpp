@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 namespace lhr::app {
 
 inline constexpr const char* kCompareMeshesHelp =
@@ -13,6 +15,9 @@ inline constexpr const char* kCompareMeshesHelp =
     "|Y - Yref| / max(Yref, 1 % of the mean Yref); its median (p50), p95 and max, the % of\n"
     "vertices within 10 % and 15 %, the mean ratio sum Y / sum Yref and, from the reference's\n"
     "standard errors, its noise and the % of vertices off by more than 3 of them.\n";
+
+// JSON has no infinity: an infinite value (PSNR of identical images) is null.
+nlohmann::json finite_or_null(double v);
 
 bool is_mesh_file(const std::filesystem::path& path);
 

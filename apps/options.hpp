@@ -3,6 +3,7 @@
 
 #include <boost/program_options.hpp>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <iostream>
@@ -19,6 +20,9 @@
 namespace lhr::app {
 
 namespace po = boost::program_options;
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The shortest text that reads back as v ("2.2", "1e-06"): Boost prints a
 // default through a stream at full precision (2.2000000000000002).

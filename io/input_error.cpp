@@ -9,7 +9,7 @@ namespace {
 // what() must stay one line whatever the file name or the file's own text
 // quoted in the problem holds (a JSON key may contain a line break): control
 // characters are shown escaped.
-std::string one_line(const std::string& text) {
+std::string escape_control_characters(const std::string& text) {
   std::string out;
   out.reserve(text.size());
   for (const char c : text) {
@@ -34,9 +34,9 @@ std::string one_line(const std::string& text) {
 }  // namespace
 
 InputError::InputError(const std::filesystem::path& file, int line, const std::string& problem)
-    : std::runtime_error(one_line(file.string() + ":" + std::to_string(line) + ": " + problem)) {}
+    : std::runtime_error(escape_control_characters(file.string() + ":" + std::to_string(line) + ": " + problem)) {}
 
 InputError::InputError(const std::filesystem::path& file, const std::string& problem)
-    : std::runtime_error(one_line(file.string() + ": " + problem)) {}
+    : std::runtime_error(escape_control_characters(file.string() + ": " + problem)) {}
 
 }  // namespace lhr

@@ -8,6 +8,8 @@
 #include <set>
 #include <utility>
 
+#include "mesh/edge_key.hpp"
+
 namespace lhr {
 
 namespace {
@@ -36,11 +38,6 @@ bool overlap(const SurfaceBox& a, const SurfaceBox& b, double slack) {
     if (a.hi[k] + slack < b.lo[k] || b.hi[k] + slack < a.lo[k]) return false;
   }
   return true;
-}
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
 // The segments where `other` meets the plane of `planar` (unit normal n,

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "mesh/edge_key.hpp"
+
 namespace lhr {
 
 namespace {
@@ -65,12 +67,6 @@ SurfaceHierarchy::SurfaceHierarchy(TriMesh initial) : mesh_(std::move(initial)) 
                                   " is not a triangle");
     }
   }
-}
-
-std::uint64_t SurfaceHierarchy::edge_key(VertexId a, VertexId b) {
-  const auto lo = static_cast<std::uint32_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint32_t>(std::max(a, b));
-  return (static_cast<std::uint64_t>(lo) << 32) | hi;
 }
 
 int SurfaceHierarchy::edge_index(NodeId q, VertexId a, VertexId b) const {

@@ -138,7 +138,6 @@ class SurfaceHierarchy {
     std::int8_t child_index = -1;
     std::uint8_t boundary_mask = 0;  // bit k: edge k is on the surface boundary
   };
-  static std::uint64_t edge_key(VertexId a, VertexId b);
   // Index j of the edge of node q joining a and b (either direction), or -1.
   int edge_index(NodeId q, VertexId a, VertexId b) const;
   VertexId midpoint_or_create(VertexId a, VertexId b, int level);

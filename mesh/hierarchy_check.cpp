@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/edge_key.hpp"
+
 namespace lhr {
 
 namespace {
@@ -15,12 +17,6 @@ namespace {
 std::string node_name(NodeId n) { return "node " + std::to_string(n); }
 
 std::string edge_name(NodeId n, int k) { return "node " + std::to_string(n) + " edge " + std::to_string(k); }
-
-std::uint64_t undirected_key(VertexId a, VertexId b) {
-  const auto lo = static_cast<std::uint32_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint32_t>(std::max(a, b));
-  return (static_cast<std::uint64_t>(lo) << 32) | hi;
-}
 
 }  // namespace
 
@@ -124,7 +120,7 @@ std::vector<Violation> check_hierarchy(const SurfaceHierarchy& h) {
   for (NodeId n = 0; n < num_nodes; ++n) {
     const auto& c = h.corners(n);
     for (int k = 0; k < 3; ++k) {
-      auto [it, inserted] = edge_nodes.try_emplace(undirected_key(c[k], c[(k + 1) % 3]), std::array{n, kNoNode});
+      auto [it, inserted] = edge_nodes.try_emplace(edge_key(c[k], c[(k + 1) % 3]), std::array{n, kNoNode});
       if (inserted) continue;
       if (it->second[1] == kNoNode) {
         it->second[1] = n;
@@ -134,7 +130,7 @@ std::vector<Violation> check_hierarchy(const SurfaceHierarchy& h) {
     }
   }
   auto other_node = [&](NodeId n, VertexId a, VertexId b) {
-    const auto it = edge_nodes.find(undirected_key(a, b));
+    const auto it = edge_nodes.find(edge_key(a, b));
     if (it == edge_nodes.end()) return kNoNode;
     return it->second[0] == n ? it->second[1] : it->second[0];
   };

@@ -11,6 +11,7 @@
 
 #include "mesh/cgal_meshing.hpp"
 #include "mesh/contact_constraints.hpp"
+#include "mesh/edge_key.hpp"
 #include "mesh/point2.hpp"
 #include "mesh/point_locator.hpp"
 
@@ -29,15 +30,6 @@ constexpr double kCreaseAngleRad = 1e-9;
 // Input triangles thinner than this (smallest angle in radians, about) are
 // taken as degenerate.
 constexpr double kDegenerateSine = 1e-10;
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
-
-std::pair<int, int> edge_of(std::uint64_t key) {
-  return {static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu)};
-}
 
 // Area-weighted normal (Newell), used when the surface carries none.
 Vec3 newell_vector_area(const Surface& surface) {

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/edge_key.hpp"
 #include "mesh/union_find.hpp"
 
 namespace lhr {
@@ -77,12 +78,6 @@ std::string format_point(const Triple& p) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", p[0], p[1], p[2]);
   return buf;
-}
-
-std::uint64_t edge_key(int a, int b) {
-  const auto lo = static_cast<std::uint32_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint32_t>(std::max(a, b));
-  return (std::uint64_t{lo} << 32) | hi;
 }
 
 // One side of an undirected edge as one face uses it.

@@ -14,10 +14,6 @@ namespace {
 
 constexpr double kFloorFraction = 0.01;
 
-std::string describe_point(const Vec3& p) {
-  return "(" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
-}
-
 double bounding_diagonal(const std::vector<Vec3>& points) {
   if (points.empty()) return 0.0;
   Vec3 lo = points.front(), hi = points.front();

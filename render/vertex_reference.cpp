@@ -19,10 +19,6 @@ namespace lhr {
 
 namespace {
 
-std::string describe_point(const Vec3& p) {
-  return "(" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
-}
-
 // Per vertex: the summed area normal of its faces and the centroids of its
 // faces, widest corner first. Nudging toward a centroid moves into a face
 // for certain, where an average direction over a boundary vertex's fan

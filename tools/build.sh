@@ -18,5 +18,10 @@ if ! grep -q '^Python_EXECUTABLE' build/CMakeCache.txt 2>/dev/null; then
     fi
   done
 fi
+# Ninja for a new build tree (an existing one keeps its generator): it
+# compiles any target's sources as soon as their inputs exist, where Make
+# waits for every dependency target first, so both cores stay busy
+# (docs/robustness.md, "What runs where").
+export CMAKE_GENERATOR=${CMAKE_GENERATOR:-Ninja}
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${python_args[@]}" >/dev/null
 cmake --build build -j "$(nproc)"

@@ -15,6 +15,8 @@ cd "$(dirname "$0")/.."
 tools/install-deps.sh
 seconds=${LHR_FUZZ_SECONDS:-60}
 build=${LHR_FUZZ_BUILD_DIR:-build-fuzz}
+# Ninja for a new build tree, as in tools/build.sh.
+export CMAKE_GENERATOR=${CMAKE_GENERATOR:-Ninja}
 targets=${LHR_FUZZ_TARGETS:-obj ply off scene_json}
 
 CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" -DLHR_FUZZ=ON \

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages lhr builds with, when any is missing.
 set -euo pipefail
-packages=(build-essential cmake pkg-config
+packages=(build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libembree-dev libopenimageio-dev
   libboost-program-options-dev libtbb-dev libtinyobjloader-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev gnuplot-nox assimp-utils

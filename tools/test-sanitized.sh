@@ -16,6 +16,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 build=${LHR_ASAN_BUILD_DIR:-build-asan}
+# Ninja for a new build tree, as in tools/build.sh.
+export CMAKE_GENERATOR=${CMAKE_GENERATOR:-Ninja}
 cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DLHR_SANITIZE=ON -DLHR_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)"
 # The tests run the `lhr` executable too; it inherits these settings.

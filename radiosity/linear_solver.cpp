@@ -248,9 +248,100 @@ void LinearSolver::update_spread() {
   });
 }
 
+bool LinearSolver::first_links_possible(int s, int r, double eps) const {
+  // A planar surface does not light itself; a curved one does (the inside
+  // of a sphere lights the rest of it). A black receiver reflects nothing.
+  const Scene& scene = model_.scene();
+  if ((r == s && scene.surfaces[s].planar) || !(max_channel(model_.material(r).reflectance) > 0)) return false;
+  return may_exchange_light(scene.surfaces[s], scene.surfaces[r], eps);
+}
+
+const InteractionGraph::Start& LinearSolver::start_of(int r) {
+  if (starts_.size() < surfaces_.size()) starts_.resize(surfaces_.size());
+  if (!starts_[r]) starts_[r] = std::make_shared<const InteractionGraph::Start>(model_.hierarchy(r));
+  return *starts_[r];
+}
+
+std::size_t LinearSolver::first_link_bytes(int s, double eps, bool behind_counted) {
+  // An upper bound on what link_new_shooters keeps: a first link on every
+  // initial vertex of every receiver, but (unless `behind_counted`, the
+  // quicker bound) for the vertices behind a planar shooter's plane, which
+  // see none of it and keep none. Each link is its own 24 bytes and its
+  // vertex's offset; each graph, its object and the per-graph caches and
+  // watches beside it.
+  constexpr std::size_t kPerLink = sizeof(GraphLink) + sizeof(std::uint32_t);
+  constexpr std::size_t kPerGraph = sizeof(InteractionGraph) + sizeof(UnoccludedCache) + 2 * sizeof(OracleWatch) +
+                                    2 * sizeof(std::vector<float>) + sizeof(int);
+  const Surface& shooter = model_.scene().surfaces[s];
+  std::size_t bytes = 0;
+  for (int r = 0; r < model_.num_surfaces(); ++r) {
+    if (!first_links_possible(s, r, eps)) continue;
+    const InteractionGraph::Start& start = start_of(r);
+    std::size_t links = start.vertices.size();
+    if (shooter.planar && !behind_counted) {
+      const SurfaceHierarchy& h = model_.hierarchy(r);
+      const Vec3& origin = shooter.points.front();
+      links = static_cast<std::size_t>(std::count_if(start.vertices.begin(), start.vertices.end(), [&](VertexId v) {
+        return OpenMesh::dot(shooter.normal, h.point(v) - origin) > eps;
+      }));
+    }
+    if (links > 0) bytes += kPerGraph + links * kPerLink;
+  }
+  return bytes;
+}
+
+double LinearSolver::leave_out_past_the_budget(const std::vector<std::pair<double, int>>& waiting,
+                                               std::vector<bool>& starts) {
+  // A shooter's first links used to be made whatever the budget, so that
+  // none of its light was dropped; among a thousand boxes that was 522 MiB
+  // of them at --max-memory 100M. Now the brightest reflecting shooters
+  // start while their first links fit in what the budget has left; the
+  // others wait, and their power is reported. A surface that emits starts
+  // whatever the budget: its light is the scene's, which no budget may
+  // leave out.
+  const double eps = 1e-9 * model_.rays().diagonal();
+  collect_stats();
+  std::size_t room = budget_.room_bytes(stats_.bytes_total());
+  double left = 0.0;
+  stats_.surfaces_left_out_for_memory = 0;
+  for (auto it = waiting.rbegin(); it != waiting.rend(); ++it) {
+    const auto [power, s] = *it;
+    if (!starts[s]) continue;
+    // With no room left, nothing more is worked out: among thousands of
+    // surfaces each bound reads every receiver's initial vertices.
+    const bool fits = room > 0 && !surfaces_[s].left_out_for_memory &&
+                      (first_link_bytes(s, eps, true) <= room || first_link_bytes(s, eps, false) <= room);
+    if (fits || luminance(model_.material(s).emission) > 0) {
+      room -= std::min(room, first_link_bytes(s, eps, false));
+      continue;
+    }
+    starts[s] = false;
+    surfaces_[s].left_out_for_memory = true;
+    left += power;
+    ++stats_.surfaces_left_out_for_memory;
+    stats_.memory_budget_reached = true;
+  }
+  return left;
+}
+
+std::size_t LinearSolver::waiting_first_link_bytes(std::size_t enough) {
+  // The surfaces that have power and do not shoot yet start at the next
+  // iteration (link_new_shooters): their first links bring light to what
+  // does not have it yet, which counts for more than any refinement of the
+  // links already made, so refinement leaves room for them (dimmest ones
+  // too: the link_power tail is a bound, not a list, and is left in).
+  const double eps = 1e-9 * model_.rays().diagonal();
+  std::size_t total = 0;
+  for (int s = 0; s < model_.num_surfaces() && total < enough; ++s) {
+    const SurfaceState& st = surfaces_[s];
+    if (st.shooting || st.left_out_for_memory || !(luminance(st.clusters.radiance[0]) > 0)) continue;
+    total += first_link_bytes(s, eps, false);
+  }
+  return total;
+}
+
 bool LinearSolver::link_new_shooters() {
   PhaseTimer timer(stats_.seconds_linking);
-  const Scene& scene = model_.scene();
   const double eps = 1e-9 * model_.rays().diagonal();
   // Surfaces not yet shooting, dimmest first: those whose powers sum to less
   // than link_power of the emitted power stay out for now. A threshold on
@@ -274,7 +365,11 @@ bool LinearSolver::link_new_shooters() {
       kept_out = dropped;
     }
   }
-  stats_.power_left_out = total_emitted_power_ > 0 ? kept_out / total_emitted_power_ : 0.0;
+  // docs/robustness.md, "First links within the memory budget".
+  const double over_budget = budget_.counts_bytes() ? leave_out_past_the_budget(waiting, starts) : 0.0;
+  stats_.power_left_out =
+      total_emitted_power_ > 0 ? (kept_out + over_budget) / total_emitted_power_ : 0.0;
+  stats_.power_left_out_for_memory = total_emitted_power_ > 0 ? over_budget / total_emitted_power_ : 0.0;
   timer.stop();
   // Only pairs that exchange energy keep a graph (paper §5): surfaces facing
   // each other across a wall, say, see nothing of each other.
@@ -327,6 +422,12 @@ bool LinearSolver::link_new_shooters() {
           [](const GraphLink& l) { return !(l.coefficients.unoccluded > 0.0f) && !(l.coefficients.visible() > 0.0f); });
     });
   };
+  // A batch's transient lists and the links it drops are about 50 bytes a
+  // link: a small budget takes smaller batches, so that they stay a few
+  // per cent of it.
+  const std::size_t batch = budget_.counts_bytes()
+                                ? std::clamp<std::size_t>(budget_.max_bytes() / 1024, 4096, kFirstLinkBatch)
+                                : kFirstLinkBatch;
   std::size_t batch_first = graphs_.size();
   for (int s = 0; s < model_.num_surfaces(); ++s) {
     SurfaceState& st = surfaces_[s];
@@ -335,20 +436,16 @@ bool LinearSolver::link_new_shooters() {
     {
       PhaseTimer making(stats_.seconds_linking);
       for (int r = 0; r < model_.num_surfaces(); ++r) {
-        // A planar surface does not light itself; a curved one does (the inside
-        // of a sphere lights the rest of it). A black receiver reflects nothing.
-        if ((r == s && scene.surfaces[s].planar) || !(max_channel(model_.material(r).reflectance) > 0)) continue;
-        if (!may_exchange_light(scene.surfaces[s], scene.surfaces[r], eps)) continue;
+        if (!first_links_possible(s, r, eps)) continue;
         const int g = static_cast<int>(graphs_.size());
-        if (starts_.size() < surfaces_.size()) starts_.resize(surfaces_.size());
-        if (!starts_[r]) starts_[r] = std::make_shared<const InteractionGraph::Start>(model_.hierarchy(r));
+        start_of(r);
         graphs_.emplace_back(s, r, starts_[r]);
         InteractionGraph& graph = graphs_.back();
         graph.set_every_vertex_link({kWholeSurface, {}, kJudgedByPilot});
         for (int i = 0; i < static_cast<int>(graph.num_vertices()); ++i) pending.push_back({g, i, 0});
       }
     }
-    if (pending.size() >= kFirstLinkBatch) {
+    if (pending.size() >= batch) {
       finish_batch(batch_first);
       batch_first = graphs_.size();
     }
@@ -485,7 +582,8 @@ bool LinearSolver::refine() {
   // each link brings.
   const std::vector<std::uint8_t> due = coarsen_due_graphs();
   if (budget_.counts_bytes()) collect_stats();
-  budget_.plan(links_now_, stats_.bytes_total());
+  budget_.plan(links_now_, stats_.bytes_total(),
+               budget_.counts_bytes() ? waiting_first_link_bytes(budget_.room_bytes(stats_.bytes_total())) : 0);
   bool changed = refine_shooters(due);
   const std::unique_ptr<ToneMap> tone = options_.tone_map(adaptation_, brightest_);
   std::vector<PendingLink> pending;
@@ -594,6 +692,8 @@ void LinearStats::write_json(nlohmann::json& doc) const {
               {"shooter_coarsenings", shooter_coarsenings},
               {"links_linked_past_budget", links_linked_past_budget},
               {"power_left_out", power_left_out},
+              {"power_left_out_for_memory", power_left_out_for_memory},
+              {"surfaces_left_out_for_memory", surfaces_left_out_for_memory},
               {"oracle_adaptation", world_adaptation}});
   // Paper §5 reports graphs ≈ 30 % over what they organise.
   const std::size_t organised = bytes_geometry + bytes_hierarchy + bytes_values + bytes_links;

@@ -126,8 +126,12 @@ struct LinearStats : SolverStats {
   std::vector<std::size_t> leaves_per_level;
   std::size_t links_linked_past_budget = 0;  // first links of shooters that began after the cap
   // Power of the surfaces left out of progressive linking, as a fraction of
-  // the emitted power (at most link_power).
+  // the emitted power: at most link_power, and what the memory budget left
+  // out (power_left_out_for_memory, from surfaces_left_out_for_memory
+  // surfaces whose first links did not fit).
   double power_left_out = 0.0;
+  double power_left_out_for_memory = 0.0;
+  std::size_t surfaces_left_out_for_memory = 0;
   std::size_t receiver_splits = 0;  // receiver-oracle splits (graph edges)
   std::size_t receiver_judgements = 0;  // graphs the receiver oracle judged, summed over its passes
   std::size_t shooter_judgements = 0;   // graphs whose links the shooter oracle judged, summed over iterations
@@ -195,6 +199,9 @@ class LinearSolver {
     double drift = std::numeric_limits<double>::infinity();
     std::size_t synced_nodes = 0;
     bool shooting = false;
+    // Its first links did not fit in the memory budget: it waits for good
+    // (the room only shrinks), and refinement keeps no room for it.
+    bool left_out_for_memory = false;
     std::vector<int> graphs_in;  // graphs with this surface as receiver
   };
   struct PendingLink {
@@ -210,6 +217,18 @@ class LinearSolver {
                                std::array<VertexId, 3>& ancestors);
   void sync_vertices(int s);
   bool link_new_shooters();
+  // Whether shooter s gets a graph on receiver r when it starts.
+  bool first_links_possible(int s, int r, double eps) const;
+  const InteractionGraph::Start& start_of(int r);
+  // An upper bound on the bytes shooter s's first links keep.
+  std::size_t first_link_bytes(int s, double eps, bool behind_counted);
+  // What the first links of the surfaces waiting to shoot will take, worked
+  // out until it reaches `enough`.
+  std::size_t waiting_first_link_bytes(std::size_t enough);
+  // Clears starts[s] for the dimmer shooters whose first links the memory
+  // budget cannot hold (`waiting`: power and surface, dimmest first); returns
+  // their power.
+  double leave_out_past_the_budget(const std::vector<std::pair<double, int>>& waiting, std::vector<bool>& starts);
   void compute_coefficients(std::vector<PendingLink>& pending);
   // One draw of a link's coefficients with k² rays per shooter triangle;
   // draws with different `draw` numbers are independent.

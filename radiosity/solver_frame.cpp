@@ -47,15 +47,20 @@ LinkBudget::LinkBudget(std::size_t max_links, std::size_t max_bytes)
       max_bytes_(max_bytes),
       cap_(max_links_) {}
 
-void LinkBudget::plan(std::size_t links_now, std::size_t bytes_used) {
+std::size_t LinkBudget::room_bytes(std::size_t bytes_used) const {
+  const double usable = kMemoryBudgetUsable * static_cast<double>(max_bytes_);
+  return static_cast<double>(bytes_used) < usable ? static_cast<std::size_t>(usable - static_cast<double>(bytes_used))
+                                                   : 0;
+}
+
+void LinkBudget::plan(std::size_t links_now, std::size_t bytes_used, std::size_t reserved) {
   cap_ = max_links_;
   memory_caps_ = false;
   if (max_bytes_ == 0) return;
   const double per_link = static_cast<double>(bytes_used) / static_cast<double>(std::max<std::size_t>(links_now, 1));
   const double usable = kMemoryBudgetUsable * static_cast<double>(max_bytes_);
-  const std::size_t room = static_cast<double>(bytes_used) < usable
-                               ? static_cast<std::size_t>((usable - static_cast<double>(bytes_used)) / per_link)
-                               : 0;
+  const double held = static_cast<double>(bytes_used) + static_cast<double>(reserved);
+  const std::size_t room = held < usable ? static_cast<std::size_t>((usable - held) / per_link) : 0;
   if (links_now + room < cap_) {
     cap_ = links_now + room;
     memory_caps_ = true;

@@ -73,11 +73,16 @@ class LinkBudget {
 
   // Whether plan() needs the bytes the data takes now.
   bool counts_bytes() const { return max_bytes_ > 0; }
+  std::size_t max_bytes() const { return max_bytes_; }
+  // What the usable part of the byte budget has left beside `bytes_used`.
+  std::size_t room_bytes(std::size_t bytes_used) const;
   // Sets the cap from the data so far: each link so far came with its share
   // of it (nodes, graph vertices, values), and the links still to make are
   // assumed to bring the same. A tenth of the budget is kept back for what
   // that misses: the step that crosses the cap and arrays growing by doubling.
-  void plan(std::size_t links_now, std::size_t bytes_used);
+  // `reserved`: bytes kept for what is not a link of refinement (the first
+  // links of surfaces waiting to shoot).
+  void plan(std::size_t links_now, std::size_t bytes_used, std::size_t reserved = 0);
   std::size_t cap() const { return cap_; }
   // Whether `new_links` more than `links_now` pass the cap; if so, notes in
   // `stats` which budget stopped refinement.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -172,12 +173,21 @@ std::vector<std::string> solution_warnings(const SolveSettings& settings, const 
   }
   const std::size_t max_bytes = memory_budget(settings);
   const std::size_t data = solution.stats.contains("bytes") ? solution.stats["bytes"].value("total", std::size_t{0}) : 0;
+  const double left_out = solution.stats.value("power_left_out_for_memory", 0.0);
+  if (left_out > 0) {
+    std::ostringstream line;
+    line << solution.stats.value("surfaces_left_out_for_memory", std::size_t{0}) << " surfaces holding "
+         << std::setprecision(3) << 100.0 * left_out << " % of the emitted power never shot: their first links do not fit in "
+         << option_name("max_memory", style) << " (" << format_bytes(max_bytes)
+         << "), so the light they reflect is missing; raise it to keep that light";
+    warnings.push_back(line.str());
+  }
   if (max_bytes > 0 && data > max_bytes) {
     warnings.push_back("the radiosity data ended at " + format_bytes(data) + ", over " +
                        option_name("max_memory", style) + " (" + format_bytes(max_bytes) +
-                       "): every shooter's first links are made whatever the budget, so that none of the light "
-                       "is dropped, and nothing was refined past it");
-  } else if (solution.memory_budget_reached) {
+                       "): the first links of surfaces that emit (in the classical method, of every shooter) "
+                       "are made whatever the budget, so that no light is dropped, and nothing was refined past it");
+  } else if (solution.memory_budget_reached && !(left_out > 0)) {
     warnings.push_back(option_name("max_memory", style) + " reached; refinement stopped early");
   }
   // An iteration limit, not convergence, ends a solve whose light does not

@@ -286,6 +286,39 @@ TEST(Budgets, FirstLinksAmongManySurfacesNeedLittleMemoryBesideTheirData) {
   }
 }
 
+// A floor with 400 boxes under one lamp (2 002 surfaces, all but the lamp
+// reflecting): each box face lit by the lamp shoots, with a first link on
+// every floor vertex in front of it. Those first links were made whatever
+// the budget, so at --max-memory 8M the data ended at 111 MiB (docs/
+// robustness.md, "First links within the memory budget"). Now the faces whose
+// first links do not fit wait, the brightest start first, the lamp starts
+// whatever the budget, and the run says how much light it left out. (That
+// with room every lit face shoots is
+// FirstLinksAmongManySurfacesNeedLittleMemoryBesideTheirData.)
+TEST(Budgets, ReflectorsWhoseFirstLinksDoNotFitWaitAndTheLightTheyHoldIsReported) {
+  constexpr std::size_t kBudget = 8u << 20;
+  const auto field = test::fresh_dir("budget_box_field_tight");
+  write_box_field(field, true);
+  std::string err;
+  const nlohmann::json boxes =
+      solve_file(field / "boxes.obj", "budget_box_field_tight_out", {"--max-memory", "8M"}, &err);
+  ASSERT_EQ(boxes["surfaces"].get<int>(), 2002);
+  EXPECT_LE(boxes["bytes"]["total"].get<std::size_t>(), kBudget);
+  EXPECT_TRUE(boxes["memory_budget_reached"].get<bool>());
+  const std::size_t waiting = boxes["surfaces_left_out_for_memory"].get<std::size_t>();
+  const double left_out = boxes["power_left_out_for_memory"].get<double>();
+  EXPECT_GT(waiting, 0u);
+  EXPECT_LT(waiting, 2001u) << "the brightest reflectors shoot";
+  EXPECT_GT(left_out, 0.0);
+  // The lamp shoots (what the floor and boxes hold is what it sends them
+  // times their reflectance, which is under 1 of what it emits).
+  EXPECT_LT(left_out, 1.0);
+  EXPECT_NEAR(boxes["power_left_out"].get<double>(), left_out, 1e-3);
+  EXPECT_EQ(err.find("the radiosity data ended at"), std::string::npos) << err;
+  EXPECT_NE(err.find(std::to_string(waiting) + " surfaces holding "), std::string::npos) << err;
+  EXPECT_NE(err.find("do not fit in --max-memory (8 MiB)"), std::string::npos) << err;
+}
+
 std::size_t meminfo_total_bytes() {
   std::ifstream in("/proc/meminfo");
   std::string key;

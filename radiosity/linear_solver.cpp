@@ -262,13 +262,12 @@ const InteractionGraph::Start& LinearSolver::start_of(int r) {
   return *starts_[r];
 }
 
-std::size_t LinearSolver::first_link_bytes(int s, double eps, bool behind_counted) {
+std::size_t LinearSolver::first_link_bytes(int s, double eps) {
   // An upper bound on what link_new_shooters keeps: a first link on every
-  // initial vertex of every receiver, but (unless `behind_counted`, the
-  // quicker bound) for the vertices behind a planar shooter's plane, which
-  // see none of it and keep none. Each link is its own 24 bytes and its
-  // vertex's offset; each graph, its object and the per-graph caches and
-  // watches beside it.
+  // initial vertex of every receiver, but for the vertices behind a planar
+  // shooter's plane, which see none of it and keep none. Each link is its
+  // own 24 bytes and its vertex's offset; each graph, its object and the
+  // per-graph caches and watches beside it.
   constexpr std::size_t kPerLink = sizeof(GraphLink) + sizeof(std::uint32_t);
   constexpr std::size_t kPerGraph = sizeof(InteractionGraph) + sizeof(UnoccludedCache) + 2 * sizeof(OracleWatch) +
                                     2 * sizeof(std::vector<float>) + sizeof(int);
@@ -278,7 +277,7 @@ std::size_t LinearSolver::first_link_bytes(int s, double eps, bool behind_counte
     if (!first_links_possible(s, r, eps)) continue;
     const InteractionGraph::Start& start = start_of(r);
     std::size_t links = start.vertices.size();
-    if (shooter.planar && !behind_counted) {
+    if (shooter.planar) {
       const SurfaceHierarchy& h = model_.hierarchy(r);
       const Vec3& origin = shooter.points.front();
       links = static_cast<std::size_t>(std::count_if(start.vertices.begin(), start.vertices.end(), [&](VertexId v) {
@@ -309,10 +308,10 @@ double LinearSolver::leave_out_past_the_budget(const std::vector<std::pair<doubl
     if (!starts[s]) continue;
     // With no room left, nothing more is worked out: among thousands of
     // surfaces each bound reads every receiver's initial vertices.
-    const bool fits = room > 0 && !surfaces_[s].left_out_for_memory &&
-                      (first_link_bytes(s, eps, true) <= room || first_link_bytes(s, eps, false) <= room);
-    if (fits || luminance(model_.material(s).emission) > 0) {
-      room -= std::min(room, first_link_bytes(s, eps, false));
+    const bool weighed = room > 0 && !surfaces_[s].left_out_for_memory;
+    const std::size_t bytes = weighed ? first_link_bytes(s, eps) : 0;
+    if ((weighed && bytes <= room) || luminance(model_.material(s).emission) > 0) {
+      room -= std::min(room, bytes);
       continue;
     }
     starts[s] = false;
@@ -335,7 +334,7 @@ std::size_t LinearSolver::waiting_first_link_bytes(std::size_t enough) {
   for (int s = 0; s < model_.num_surfaces() && total < enough; ++s) {
     const SurfaceState& st = surfaces_[s];
     if (st.shooting || st.left_out_for_memory || !(luminance(st.clusters.radiance[0]) > 0)) continue;
-    total += first_link_bytes(s, eps, false);
+    total += first_link_bytes(s, eps);
   }
   return total;
 }

@@ -221,7 +221,7 @@ class LinearSolver {
   bool first_links_possible(int s, int r, double eps) const;
   const InteractionGraph::Start& start_of(int r);
   // An upper bound on the bytes shooter s's first links keep.
-  std::size_t first_link_bytes(int s, double eps, bool behind_counted);
+  std::size_t first_link_bytes(int s, double eps);
   // What the first links of the surfaces waiting to shoot will take, worked
   // out until it reaches `enough`.
   std::size_t waiting_first_link_bytes(std::size_t enough);

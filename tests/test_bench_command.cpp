@@ -30,7 +30,7 @@ const char* const kDocumentedHeader =
     "method,parameters,eps_link,eps_pixel,eps_bf,spp,links,nodes,elements,seconds_total,seconds_meshing,"
     "seconds_solve,seconds_linking,seconds_refine,seconds_coefficients,seconds_gather,seconds_push_pull,"
     "seconds_oracles,seconds_importance,seconds_view,seconds_output,peak_rss_bytes,graph_bytes,graph_overhead,"
-    "rel_within_10,rel_within_15,mean_ratio,within_10,within_15,rmse,psnr_db,relative_error";
+    "data_bytes_per_link,peak_rss_per_link,rel_within_10,rel_within_15,mean_ratio,within_10,within_15,rmse,psnr_db,relative_error";
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;
@@ -111,7 +111,7 @@ TEST(BenchPlan, CsvHasFixedDecimalsAndEmptyCellsWhereAColumnDoesNotApply) {
                                 {"nodes", 50000},
                                 {"elements", 37347},
                                 {"seconds", {{"meshing", 0.5}, {"solve", 7.25}, {"oracles", 1.0 / 3.0}}},
-                                {"bytes", {{"graphs", 123456}, {"graph_overhead", 0.0912345}}}});
+                                {"bytes", {{"graphs", 123456}, {"graph_overhead", 0.0912345}, {"total", 250695200}}}});
   linear.metrics.rel_within_10 = 71.5;
   linear.metrics.rel_within_15 = 88.0004;
   linear.metrics.mean_ratio = 0.98765432;
@@ -130,8 +130,9 @@ TEST(BenchPlan, CsvHasFixedDecimalsAndEmptyCellsWhereAColumnDoesNotApply) {
   EXPECT_EQ(lines[0], kDocumentedHeader);
   EXPECT_EQ(lines[1],
             "linear,eps_link=10 eps_pixel=0.3,10,0.3,,,2506952,50000,37347,8.432,0.500,7.250,,,,,,0.333,,,,"
-            "334000128,123456,0.0912,71.500,88.000,0.987654,94.123,100.000,0.012346,38.170,0.050000");
-  EXPECT_EQ(lines[2], "path,spp=16,,,,16,,,,2.000,,,,,,,,,,,,52428800,,,0.000,0.000,,50.000,0.000,0.000000,,0.000000");
+            "334000128,123456,0.0912,100.0,133.2,71.500,88.000,0.987654,94.123,100.000,0.012346,38.170,0.050000");
+  EXPECT_EQ(lines[2],
+            "path,spp=16,,,,16,,,,2.000,,,,,,,,,,,,52428800,,,,,0.000,0.000,,50.000,0.000,0.000000,,0.000000");
   EXPECT_EQ(lines[3], "");
   for (const std::string& line : {lines[1], lines[2]}) {
     EXPECT_EQ(split(line, ',').size(), bench_csv_columns().size()) << line;

@@ -70,6 +70,15 @@ std::string count_cell(const nlohmann::json& object, const char* key) {
   return std::to_string(object[key].get<long long>());
 }
 
+// numerator[key] per link of the run's stats: empty without links (the path
+// tracer) or without the value.
+std::string per_link_cell(const nlohmann::json& numerator, const char* key, const nlohmann::json& stats) {
+  if (!numerator.is_object() || !numerator.contains(key) || !numerator[key].is_number()) return "";
+  if (!stats.is_object() || !stats.contains("links") || !stats["links"].is_number()) return "";
+  const double links = stats["links"].get<double>();
+  return links > 0 ? fixed(numerator[key].get<double>() / links, 1) : "";
+}
+
 std::string seconds_cell(const nlohmann::json& object, const char* key) {
   if (!object.is_object() || !object.contains(key) || !object[key].is_number()) return "";
   return fixed(object[key].get<double>(), 3);
@@ -225,7 +234,8 @@ const std::vector<std::string>& bench_csv_columns() {
     std::vector<std::string> c{"method", "parameters", "eps_link", "eps_pixel", "eps_bf", "spp",
                                "links",  "nodes",      "elements", "seconds_total"};
     for (const char* phase : kPhases) c.push_back(std::string("seconds_") + phase);
-    for (const char* rest : {"peak_rss_bytes", "graph_bytes", "graph_overhead", "rel_within_10", "rel_within_15",
+    for (const char* rest : {"peak_rss_bytes", "graph_bytes", "graph_overhead", "data_bytes_per_link",
+                             "peak_rss_per_link", "rel_within_10", "rel_within_15",
                              "mean_ratio", "within_10", "within_15", "rmse", "psnr_db", "relative_error"}) {
       c.push_back(rest);
     }
@@ -328,6 +338,8 @@ std::string bench_csv(const std::vector<BenchRow>& rows) {
     cells.push_back(count_cell(bytes, "graphs"));
     const bool overhead = bytes.is_object() && bytes.contains("graph_overhead");
     cells.push_back(overhead ? fixed(bytes["graph_overhead"].get<double>(), 4) : "");
+    cells.push_back(per_link_cell(bytes, "total", stats));
+    cells.push_back(per_link_cell(record, "peak_rss_bytes", stats));
     const ImageMetrics& m = row.metrics;
     cells.push_back(fixed(m.rel_within_10, 3));
     cells.push_back(fixed(m.rel_within_15, 3));

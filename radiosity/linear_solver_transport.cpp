@@ -268,6 +268,8 @@ void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
     GraphLink& link = g.links(p.vertex)[p.slot];
     std::uint64_t local = 0;
     const int k = options_.visibility_samples;
+    // The pilot and the second draw below share their geometry.
+    const SharedLinkGeometry shared;
     TransportCoefficients drawn = coefficients(g, p.vertex, link.shooter, k, 0, local);
     const bool first = link.judged_fraction < 0.0f;
     // A first link is judged by this pilot draw, and drawn afresh below, so

@@ -175,6 +175,61 @@ std::array<double, 3> near_basis_form_factors(const ReceiverPoint& receiver, con
   return out;
 }
 
+// SharedLinkGeometry's memo: per receiver point and call site, what a draw
+// of the scope's link worked out before its rays.
+enum class GeometrySite : std::uint8_t { kTriangle, kCluster, kSurface, kPlanarDiscs, kCurvedDiscs };
+
+struct SharedGeometry {
+  GeometrySite site;
+  Vec3 x, normal, approach;
+  double ff = 0.0;
+  bool near = false;  // triangle: x is near enough for the integrated split
+  bool has_split = false;
+  std::array<double, 3> split{0.0, 0.0, 0.0};
+  bool seen_plainly = true;  // curved cluster: every root seen plainly
+  std::vector<double> first, second;
+};
+
+struct SharedGeometryMemo {
+  int open_scopes = 0;
+  std::size_t used = 0;  // entries of this scope; the rest keep their capacity
+  std::vector<SharedGeometry> entries;
+};
+
+thread_local SharedGeometryMemo t_shared_geometry;
+
+bool same_point(const SharedGeometry& g, const ReceiverPoint& r) {
+  return g.x == r.x && g.normal == r.normal && g.approach == r.approach;
+}
+
+// The entry this scope made for (site, receiver), or null.
+SharedGeometry* shared_geometry(GeometrySite site, const ReceiverPoint& receiver) {
+  SharedGeometryMemo& memo = t_shared_geometry;
+  if (memo.open_scopes == 0) return nullptr;
+  for (std::size_t i = 0; i < memo.used; ++i) {
+    if (memo.entries[i].site == site && same_point(memo.entries[i], receiver)) return &memo.entries[i];
+  }
+  return nullptr;
+}
+
+// A new entry for (site, receiver) in this scope, or null without a scope.
+SharedGeometry* new_shared_geometry(GeometrySite site, const ReceiverPoint& receiver) {
+  SharedGeometryMemo& memo = t_shared_geometry;
+  if (memo.open_scopes == 0) return nullptr;
+  if (memo.used == memo.entries.size()) memo.entries.emplace_back();
+  SharedGeometry& g = memo.entries[memo.used++];
+  g.site = site;
+  g.x = receiver.x;
+  g.normal = receiver.normal;
+  g.approach = receiver.approach;
+  g.ff = 0.0;
+  g.near = g.has_split = false;
+  g.seen_plainly = true;
+  g.first.clear();
+  g.second.clear();
+  return &g;
+}
+
 // triangle_transport's working arrays, one set per thread and reused: it
 // runs once per link, and allocating them on every call cost a few per cent
 // of a solve, and a tenth of it under AddressSanitizer.
@@ -187,6 +242,14 @@ struct TriangleTransportScratch {
 };
 
 }  // namespace
+
+SharedLinkGeometry::SharedLinkGeometry() {
+  if (t_shared_geometry.open_scopes++ == 0) t_shared_geometry.used = 0;
+}
+
+SharedLinkGeometry::~SharedLinkGeometry() {
+  if (--t_shared_geometry.open_scopes == 0) t_shared_geometry.used = 0;
+}
 
 TransportCoefficients merge_child_coefficients(const std::array<TransportCoefficients, 4>& children) {
   // Parent corner L's hat function at corner l of child c: 1 at the parent's
@@ -217,7 +280,19 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
                                          std::uint64_t& ray_count) {
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
-  const double ff = point_triangle_form_factor(receiver.x, receiver.normal, shooter, approach);
+  SharedGeometry* shared = shared_geometry(GeometrySite::kTriangle, receiver);
+  if (shared == nullptr) {
+    const double exact = point_triangle_form_factor(receiver.x, receiver.normal, shooter, approach);
+    const bool near =
+        (receiver.x - (shooter[0] + shooter[1] + shooter[2]) / 3.0).norm() < kNearShooter * longest_edge(shooter);
+    shared = new_shared_geometry(GeometrySite::kTriangle, receiver);
+    thread_local SharedGeometry unshared;
+    if (shared == nullptr) shared = &unshared;
+    shared->ff = exact;
+    shared->near = near;
+    shared->has_split = false;
+  }
+  const double ff = shared->ff;
   if (!(ff > 0.0)) return out;
   out.unoccluded = static_cast<float>(ff);
 
@@ -255,10 +330,14 @@ TransportCoefficients triangle_transport(const ReceiverPoint& receiver, const st
     if (blocked[t]) continue;
     for (int l = 0; l < 3; ++l) visible[l] += samples[i].barycentric[l] * weight[i];
   }
-  if ((receiver.x - (shooter[0] + shooter[1] + shooter[2]) / 3.0).norm() < kNearShooter * longest_edge(shooter)) {
+  if (shared->near) {
     // The split integrated; the samples only say how much of each corner's
     // share is hidden.
-    const std::array<double, 3> split = near_basis_form_factors(receiver, shooter, approach);
+    if (!shared->has_split) {
+      shared->split = near_basis_form_factors(receiver, shooter, approach);
+      shared->has_split = true;
+    }
+    const std::array<double, 3>& split = shared->split;
     const double sum = split[0] + split[1] + split[2];
     for (int l = 0; l < 3; ++l) {
       const double share = sum > 0 ? ff * split[l] / sum : ff / 3.0;
@@ -358,22 +437,32 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver, const Sho
   TransportCoefficients out;
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   thread_local std::vector<double> cumulative;
-  cumulative.clear();
-  const ShooterTriangleTable& table = *shooter.table;
-  if (!corner_edges.empty()) {
-    assert(corner_edges.size() == table.size());
-    shared_edge_form_factors(receiver.x, receiver.normal, table.corner, corner_edges, approach, cumulative,
-                             shooter.members);
-  } else {
-    cumulative.resize(shooter.size());
-    for (std::size_t j = 0; j < shooter.size(); ++j) {
-      cumulative[j] = point_triangle_form_factor(receiver.x, receiver.normal, table.corner[shooter.row(j)], approach);
-    }
-  }
   double ff = 0.0;
-  for (double& f : cumulative) {
-    ff += f;
-    f = ff;
+  if (const SharedGeometry* shared = shared_geometry(GeometrySite::kCluster, receiver)) {
+    cumulative = shared->first;
+    ff = shared->ff;
+  } else {
+    cumulative.clear();
+    const ShooterTriangleTable& table = *shooter.table;
+    if (!corner_edges.empty()) {
+      assert(corner_edges.size() == table.size());
+      shared_edge_form_factors(receiver.x, receiver.normal, table.corner, corner_edges, approach, cumulative,
+                               shooter.members);
+    } else {
+      cumulative.resize(shooter.size());
+      for (std::size_t j = 0; j < shooter.size(); ++j) {
+        cumulative[j] =
+            point_triangle_form_factor(receiver.x, receiver.normal, table.corner[shooter.row(j)], approach);
+      }
+    }
+    for (double& f : cumulative) {
+      ff += f;
+      f = ff;
+    }
+    if (SharedGeometry* made = new_shared_geometry(GeometrySite::kCluster, receiver)) {
+      made->first = cumulative;
+      made->ff = ff;
+    }
   }
   if (!(ff > 0.0) || shooter.size() == 0) return out;
   out.unoccluded = static_cast<float>(ff);
@@ -403,7 +492,12 @@ TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span
                                         const ShooterShape* shape) {
   const Vec3* approach = receiver.approach.sqrnorm() > 0 ? &receiver.approach : nullptr;
   double ff = 0.0;
-  for (const auto& polygon : polygons) ff += point_polygon_form_factor(receiver.x, receiver.normal, polygon, approach);
+  if (const SharedGeometry* shared = shared_geometry(GeometrySite::kSurface, receiver)) {
+    ff = shared->ff;
+  } else {
+    for (const auto& polygon : polygons) ff += point_polygon_form_factor(receiver.x, receiver.normal, polygon, approach);
+    if (SharedGeometry* made = new_shared_geometry(GeometrySite::kSurface, receiver)) made->ff = ff;
+  }
   return planar_shooter_transport(receiver, ff, triangles, rays, sampling, ray_count, shape, ShooterHorizon::kUnknown);
 }
 
@@ -474,6 +568,27 @@ bool fill_disc_weights(const ReceiverPoint& receiver, const ShooterTriangles& tr
   return true;
 }
 
+// fill_disc_weights, once per receiver point in a SharedLinkGeometry scope.
+// The planar and the curved call site differ in horizon and normals, and
+// each keeps its own entries.
+bool fill_shared_disc_weights(const ReceiverPoint& receiver, const ShooterTriangles& triangles,
+                              ShooterHorizon horizon, TriangleNormals normals, DiscWeights& out) {
+  const GeometrySite site =
+      normals == TriangleNormals::kShared ? GeometrySite::kPlanarDiscs : GeometrySite::kCurvedDiscs;
+  if (const SharedGeometry* shared = shared_geometry(site, receiver)) {
+    out.drawing = shared->first;
+    out.weighing = shared->second;
+    return shared->seen_plainly;
+  }
+  const bool seen_plainly = fill_disc_weights(receiver, triangles, horizon, normals, out);
+  if (SharedGeometry* made = new_shared_geometry(site, receiver)) {
+    made->first = out.drawing;
+    made->second = out.weighing;
+    made->seen_plainly = seen_plainly;
+  }
+  return seen_plainly;
+}
+
 // A constant-basis shooter whose exact unoccluded form factor `ff` is known,
 // its shadow rays drawn by `weights`.
 TransportCoefficients disc_drawn_transport(const ReceiverPoint& receiver, double ff,
@@ -529,7 +644,7 @@ TransportCoefficients planar_shooter_transport(const ReceiverPoint& receiver, do
                                                const ShooterShape* shape, ShooterHorizon horizon) {
   if (!(ff > 0.0) || triangles.size() == 0) return {};
   thread_local DiscWeights weights;
-  fill_disc_weights(receiver, triangles, horizon, TriangleNormals::kShared, weights);
+  fill_shared_disc_weights(receiver, triangles, horizon, TriangleNormals::kShared, weights);
   return disc_drawn_transport(receiver, ff, triangles, weights, rays, sampling, ray_count, shape);
 }
 
@@ -539,7 +654,8 @@ std::optional<TransportCoefficients> curved_cluster_transport(
     std::uint64_t& ray_count, const ShooterShape* shape) {
   if (outline.empty() || triangles.size() == 0) return std::nullopt;
   thread_local DiscWeights weights;
-  if (!fill_disc_weights(receiver, triangles, ShooterHorizon::kAbove, TriangleNormals::kOwnSeenPlainly, weights)) {
+  if (!fill_shared_disc_weights(receiver, triangles, ShooterHorizon::kAbove, TriangleNormals::kOwnSeenPlainly,
+                                weights)) {
     return std::nullopt;
   }
   const double ff = outline_contour_form_factor(receiver.x, receiver.normal, points, outline);

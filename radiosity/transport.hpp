@@ -38,6 +38,22 @@ struct TransportSampling {
   std::uint64_t key = 0;  // sample pattern, from the link's ids (deterministic)
 };
 
+// What both draws of one link share (its exact form factors, the weights its
+// shadow rays are drawn and weighed by, a near triangle's basis split)
+// depends on the receiver point and the shooter alone; each draw takes its
+// own rays. While a scope is open on a thread, each transport function works
+// that out once per receiver point and reuses it for the link's further
+// draws: the same numbers, not computed twice. A first link and a partly
+// hidden one are drawn twice (LinearSolver::compute_coefficients, which opens
+// a scope per link). Every call inside one scope must be for one shooter.
+class SharedLinkGeometry {
+ public:
+  SharedLinkGeometry();
+  ~SharedLinkGeometry();
+  SharedLinkGeometry(const SharedLinkGeometry&) = delete;
+  SharedLinkGeometry& operator=(const SharedLinkGeometry&) = delete;
+};
+
 // A linear-basis shooter triangle's coefficients from its four children's,
 // in mesh/hierarchy.hpp's child order: each of the parent's hat functions is
 // linear over each child, so F_P^L = Σ_c Σ_l N_P^L(corner l of child c) F_c^l

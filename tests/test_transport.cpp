@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <random>
 #include <vector>
@@ -514,6 +515,97 @@ TEST(ClusterTransport, ACurvedClusterSeenPlainlyAgreesWithItsRootsOneByOne) {
     EXPECT_FALSE(curved_cluster_transport(receiver, shooter, points, outlines.of(0), rays, sampling, ray_count, &shape))
         << "receiver at " << r.x;
   }
+}
+
+// SharedLinkGeometry (transport.hpp): a link's draws made inside a scope,
+// which work their geometry out once per receiver point, give exactly what
+// the same draws give outside one, for every kind of shooter, with two
+// receiver points drawn in turn in one scope as a curved receiver's
+// collocation points are.
+TEST(SharedLinkGeometry, DrawsInsideAScopeEqualTheSameDrawsOutsideOne) {
+  TriMesh floor_mesh;
+  for (const auto& t : floor_triangles(1)) {
+    floor_mesh.add_face(floor_mesh.add_vertex(t[0]), floor_mesh.add_vertex(t[1]), floor_mesh.add_vertex(t[2]));
+  }
+  const TriMesh block_mesh = block();
+  const RayCaster rays({&floor_mesh, &block_mesh});
+  const auto triangles = floor_triangles(8);
+  const ShooterTriangleTable table(triangles);
+  const ShooterTriangles whole{&table, {}};
+  const TriangleValues values(triangles, floor_value);
+  const ShooterShape shape = values.shape();
+  const auto polygons = whole_floor();
+  std::vector<ReceiverPoint> receivers(2);
+  receivers[0].x = Vec3(2.5, 0, 0);  // at the foot of a wall: near triangles, the block between
+  receivers[0].normal = Vec3(0, 0, 1);
+  receivers[0].approach = Vec3(0, 1, 0);
+  receivers[1].x = Vec3(1.0, 2.0, 3.0);  // above the floor, facing it at a slant
+  receivers[1].normal = Vec3(0.3, -1, -0.2).normalized();
+  // Each kind of shooter, drawn for one receiver with one sampling.
+  const std::vector<std::function<TransportCoefficients(const ReceiverPoint&, const TransportSampling&,
+                                                        std::uint64_t&)>>
+      kinds = {
+          [&](const ReceiverPoint& r, const TransportSampling& s, std::uint64_t& n) {
+            return triangle_transport(r, triangles[13], rays, s, n);
+          },
+          [&](const ReceiverPoint& r, const TransportSampling& s, std::uint64_t& n) {
+            return cluster_transport(r, whole, rays, s, n, &shape);
+          },
+          [&](const ReceiverPoint& r, const TransportSampling& s, std::uint64_t& n) {
+            return surface_transport(r, polygons, whole, rays, s, n, &shape);
+          },
+          [&](const ReceiverPoint& r, const TransportSampling& s, std::uint64_t& n) {
+            return planar_shooter_transport(r, 0.25, whole, rays, s, n, &shape, ShooterHorizon::kCrossing);
+          },
+      };
+  TransportSampling pilot, second;
+  pilot.k = 4;
+  pilot.key = sample_key(3, 1);
+  second.k = 9;
+  second.key = sample_key(3, 2);
+  for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
+    std::vector<TransportCoefficients> alone, shared;
+    std::uint64_t alone_rays = 0, shared_rays = 0;
+    for (const TransportSampling& s : {pilot, second}) {
+      for (const ReceiverPoint& r : receivers) alone.push_back(kinds[kind](r, s, alone_rays));
+    }
+    {
+      const SharedLinkGeometry scope;
+      for (const TransportSampling& s : {pilot, second}) {
+        for (const ReceiverPoint& r : receivers) shared.push_back(kinds[kind](r, s, shared_rays));
+      }
+    }
+    EXPECT_EQ(shared_rays, alone_rays) << "kind " << kind;
+    ASSERT_EQ(shared.size(), alone.size());
+    for (std::size_t i = 0; i < alone.size(); ++i) {
+      EXPECT_GT(alone[i].unoccluded, 0.0f) << "kind " << kind << ", draw " << i << " must see the floor";
+      EXPECT_EQ(shared[i].unoccluded, alone[i].unoccluded) << "kind " << kind << ", draw " << i;
+      for (int l = 0; l < 3; ++l) EXPECT_EQ(shared[i].f[l], alone[i].f[l]) << "kind " << kind << ", draw " << i;
+    }
+  }
+}
+
+// What one scope worked out is not read by the next: another shooter drawn
+// for the same receiver point after the scope closed gets its own geometry.
+TEST(SharedLinkGeometry, AClosedScopeLeavesNothingForTheNextShooter) {
+  const TriMesh empty;
+  const RayCaster rays({&empty});
+  const auto triangles = floor_triangles(2);
+  ReceiverPoint receiver;
+  receiver.x = Vec3(1.0, 1.0, 1.0);
+  receiver.normal = Vec3(0, -1, 0);
+  TransportSampling sampling;
+  std::uint64_t n = 0;
+  TransportCoefficients first;
+  {
+    const SharedLinkGeometry scope;
+    first = triangle_transport(receiver, triangles[0], rays, sampling, n);
+  }
+  const SharedLinkGeometry scope;
+  const TransportCoefficients other = triangle_transport(receiver, triangles[5], rays, sampling, n);
+  const double exact = point_triangle_form_factor(receiver.x, receiver.normal, triangles[5]);
+  EXPECT_NE(first.unoccluded, other.unoccluded);
+  EXPECT_NEAR(other.unoccluded, exact, 1e-6 * exact);
 }
 
 }  // namespace

@@ -192,7 +192,10 @@ struct SharedGeometry {
 
 struct SharedGeometryMemo {
   int open_scopes = 0;
-  std::size_t used = 0;  // entries of this scope; the rest keep their capacity
+  // The innermost scope's entries are [base, used); the outer scopes' lie
+  // below base, unseen by it; the rest keep their capacity.
+  std::size_t base = 0;
+  std::size_t used = 0;
   std::vector<SharedGeometry> entries;
 };
 
@@ -206,7 +209,7 @@ bool same_point(const SharedGeometry& g, const ReceiverPoint& r) {
 SharedGeometry* shared_geometry(GeometrySite site, const ReceiverPoint& receiver) {
   SharedGeometryMemo& memo = t_shared_geometry;
   if (memo.open_scopes == 0) return nullptr;
-  for (std::size_t i = 0; i < memo.used; ++i) {
+  for (std::size_t i = memo.base; i < memo.used; ++i) {
     if (memo.entries[i].site == site && same_point(memo.entries[i], receiver)) return &memo.entries[i];
   }
   return nullptr;
@@ -243,12 +246,20 @@ struct TriangleTransportScratch {
 
 }  // namespace
 
-SharedLinkGeometry::SharedLinkGeometry() {
-  if (t_shared_geometry.open_scopes++ == 0) t_shared_geometry.used = 0;
+SharedLinkGeometry::SharedLinkGeometry() : outer_base_(t_shared_geometry.base) {
+  // A scope opened inside another (a task run while one waits) sees none of
+  // the outer one's entries, which may be for the same point and another
+  // shooter, and leaves them as they were.
+  SharedGeometryMemo& memo = t_shared_geometry;
+  ++memo.open_scopes;
+  memo.base = memo.used;
 }
 
 SharedLinkGeometry::~SharedLinkGeometry() {
-  if (--t_shared_geometry.open_scopes == 0) t_shared_geometry.used = 0;
+  SharedGeometryMemo& memo = t_shared_geometry;
+  --memo.open_scopes;
+  memo.used = memo.base;
+  memo.base = outer_base_;
 }
 
 TransportCoefficients merge_child_coefficients(const std::array<TransportCoefficients, 4>& children) {

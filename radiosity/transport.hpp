@@ -8,6 +8,7 @@
 // that an unoccluded link reproduces the exact form factor.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -45,13 +46,17 @@ struct TransportSampling {
 // that out once per receiver point and reuses it for the link's further
 // draws: the same numbers, not computed twice. A first link and a partly
 // hidden one are drawn twice (LinearSolver::compute_coefficients, which opens
-// a scope per link). Every call inside one scope must be for one shooter.
+// a scope per link). Every call inside one scope must be for one shooter;
+// a scope opened inside another starts empty.
 class SharedLinkGeometry {
  public:
   SharedLinkGeometry();
   ~SharedLinkGeometry();
   SharedLinkGeometry(const SharedLinkGeometry&) = delete;
   SharedLinkGeometry& operator=(const SharedLinkGeometry&) = delete;
+
+ private:
+  std::size_t outer_base_;
 };
 
 // A linear-basis shooter triangle's coefficients from its four children's,

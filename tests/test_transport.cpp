@@ -585,9 +585,10 @@ TEST(SharedLinkGeometry, DrawsInsideAScopeEqualTheSameDrawsOutsideOne) {
   }
 }
 
-// What one scope worked out is not read by the next: another shooter drawn
-// for the same receiver point after the scope closed gets its own geometry.
-TEST(SharedLinkGeometry, AClosedScopeLeavesNothingForTheNextShooter) {
+// What one scope worked out is not read by the next, nor by one opened
+// inside it: another shooter drawn for the same receiver point gets its own
+// geometry.
+TEST(SharedLinkGeometry, AClosedOrOuterScopeLeavesNothingForTheNextShooter) {
   const TriMesh empty;
   const RayCaster rays({&empty});
   const auto triangles = floor_triangles(2);
@@ -606,6 +607,14 @@ TEST(SharedLinkGeometry, AClosedScopeLeavesNothingForTheNextShooter) {
   const double exact = point_triangle_form_factor(receiver.x, receiver.normal, triangles[5]);
   EXPECT_NE(first.unoccluded, other.unoccluded);
   EXPECT_NEAR(other.unoccluded, exact, 1e-6 * exact);
+  {
+    // A scope opened inside this one (another link's task run on this
+    // thread while it waits) starts empty, and leaves this one's entries.
+    const SharedLinkGeometry inner;
+    const TransportCoefficients nested = triangle_transport(receiver, triangles[0], rays, sampling, n);
+    EXPECT_EQ(nested.unoccluded, first.unoccluded);
+  }
+  EXPECT_EQ(triangle_transport(receiver, triangles[5], rays, sampling, n).unoccluded, other.unoccluded);
 }
 
 }  // namespace

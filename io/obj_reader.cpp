@@ -32,9 +32,6 @@ using text::require_text;
 using text::show;
 using text::without_bom;
 
-// Lines between two calls of the checkpoint: a few milliseconds of parsing.
-constexpr int kCheckpointLines = 4096;
-
 struct ObjFace {
   int line = 0;
   std::vector<long long> indices;  // 0-based, relative indices resolved
@@ -171,7 +168,7 @@ ObjScan scan_obj(const fs::path& path, std::string_view text, const std::functio
   text::LineReader lines(text, false);
   Line line;
   for (int n = 0; lines.next(line); ++n) {
-    if (checkpoint && n % kCheckpointLines == 0) checkpoint();
+    if (checkpoint && n % text::kItemsPerCheckpoint == 0) checkpoint();
     const std::string_view key = line.tokens[0];
     if (key[0] == '#') continue;
     if (key == "v") {
@@ -269,8 +266,8 @@ struct ObjMaterials {
 
 PolygonSoup read_obj(const fs::path& path, std::vector<std::string>& warnings,
                      const std::function<void()>& checkpoint) {
-  const std::string text = without_bom(read_file(path));
-  require_text(path, text);
+  const std::string text = without_bom(read_file(path, checkpoint));
+  require_text(path, text, checkpoint);
   ObjScan scan = scan_obj(path, text, checkpoint);
 
   const fs::path dir = path.parent_path();

@@ -62,8 +62,8 @@ Rgb decode_colour(const fs::path& path, const ColourTokens& c, bool floats, cons
 // one line at a time: the tokens of every line at once took more memory
 // than the mesh they build. Only the vertex colours wait, as views, for
 // the end of the vertex list, since their scale is decided per file.
-StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceIndices faces) {
-  text::require_text(path, text);
+StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceIndices faces, const std::function<void()>& checkpoint) {
+  text::require_text(path, text, checkpoint);
   text::LineReader lines(text, true);
   Line head;
   if (!lines.next(head)) throw InputError(path, "empty file");
@@ -111,6 +111,7 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
   std::vector<ColourTokens> vertex_colours;
   Line line;
   for (long long i = 0; i < *nv; ++i) {
+    if (checkpoint && i % text::kItemsPerCheckpoint == 0) checkpoint();
     if (!lines.next(line)) throw ends_after(i, *nv, "vertices");
     const auto what = [i] { return "vertex " + std::to_string(i); };
     mesh.points.push_back(text::finite_xyz(path, line, 0, what()));
@@ -140,6 +141,7 @@ StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceInd
   mesh.face_colours.reserve(static_cast<std::size_t>(*nf));
   std::vector<long long> indices;
   for (long long i = 0; i < *nf; ++i) {
+    if (checkpoint && i % text::kItemsPerCheckpoint == 0) checkpoint();
     if (!lines.next(line)) throw ends_after(i, *nf, "faces");
     const text::ErrorAt error = [&](const std::string& problem) {
       return InputError(path, line.number, "face " + std::to_string(i) + ": " + problem);
@@ -218,7 +220,8 @@ Rgb binary_colour(const std::string& bytes, std::size_t at) {
 // colour, 2 floats for a texture coordinate) and faces (the length, the
 // indices and, in a coloured file, 3 ints). Every count and face length is
 // checked against the bytes left before it is followed.
-StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceIndices faces) {
+StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceIndices faces,
+                           const std::function<void()>& checkpoint) {
   const std::size_t newline = bytes.find('\n');
   const std::vector<text::Line> first = text::tokenize(std::string_view(bytes).substr(0, newline), false);
   const std::string magic = first.empty() ? std::string() : std::string(first[0].tokens[0]);
@@ -247,6 +250,7 @@ StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceI
   StoredMesh mesh;
   mesh.points.reserve(static_cast<std::size_t>(n_vertices));
   for (long long i = 0; i < n_vertices; ++i) {
+    if (checkpoint && i % text::kItemsPerCheckpoint == 0) checkpoint();
     Vec3 p;
     for (int k = 0; k < 3; ++k) p[k] = little_endian_float(bytes, at + 4 * k);
     mesh.points.push_back(p);
@@ -257,6 +261,7 @@ StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceI
   // Each face takes at least its 4-byte length.
   mesh.faces.reserve(static_cast<std::size_t>(std::min<unsigned long long>(n_faces, left() / 4)));
   for (long long i = 0; i < n_faces; ++i) {
+    if (checkpoint && i % text::kItemsPerCheckpoint == 0) checkpoint();
     if (left() < 4) {
       throw InputError(path, "file ends after " + std::to_string(i) + " of " + std::to_string(n_faces) +
                                  " faces (truncated file?)");
@@ -288,10 +293,10 @@ StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceI
 
 }  // namespace
 
-StoredMesh read_off(const fs::path& path, const std::string& bytes, FaceIndices faces) {
+StoredMesh read_off(const fs::path& path, const std::string& bytes, FaceIndices faces, const std::function<void()>& checkpoint) {
   const std::size_t newline = bytes.find('\n');
   const bool binary = newline != std::string::npos && bytes.substr(0, newline).find("BINARY") != std::string::npos;
-  return binary ? read_binary_off(path, bytes, faces) : read_ascii_off(path, bytes, faces);
+  return binary ? read_binary_off(path, bytes, faces, checkpoint) : read_ascii_off(path, bytes, faces, checkpoint);
 }
 
 }  // namespace lhr

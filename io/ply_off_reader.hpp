@@ -7,6 +7,7 @@
 // docs/robustness.md lists what the fuzzers found).
 
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -35,7 +36,10 @@ struct StoredMesh {
   std::vector<double> radiance_stderr;
 };
 
-// Reads a .ply or .off file. Throws InputError.
-StoredMesh read_ply_off(const std::filesystem::path& path, FaceIndices faces);
+// Reads a .ply or .off file. Throws InputError. checkpoint, when set, is
+// called between slices of the read and every few thousand elements, so
+// that a caller can stop reading a large file.
+StoredMesh read_ply_off(const std::filesystem::path& path, FaceIndices faces,
+                        const std::function<void()>& checkpoint = {});
 
 }  // namespace lhr

@@ -333,16 +333,18 @@ double as_stored(std::string_view token, double value, const PlyType& type) {
 
 // ASCII PLY body: one element per line in header order, with line numbers.
 void read_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply, FaceIndices faces,
+                    const std::function<void()>& checkpoint,
                     PlyBuilder& out) {
   const int header_lines = static_cast<int>(std::count(bytes.begin(), bytes.begin() + ply.end, '\n')) + 1;
   const std::string_view text = std::string_view(bytes).substr(std::min(ply.body, bytes.size()));
-  text::require_text(path, text);
+  text::require_text(path, text, checkpoint);
   // One line at a time: the tokens of a whole large file would double its
   // memory beside the mesh being built.
   text::LineReader lines(text, false);
   Line line;
   for (const PlyElement& e : ply.elements) {
     for (long long i = 0; i < e.count; ++i) {
+      if (checkpoint && i % text::kItemsPerCheckpoint == 0) checkpoint();
       if (!lines.next(line)) {
         throw InputError(path, "file ends after " + std::to_string(i) + " of " + std::to_string(e.count) + " " +
                                    e.name + " elements (truncated file?)");
@@ -417,6 +419,7 @@ void read_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHea
 // Binary PLY body: walked element by element so that a count or list
 // length the data cannot hold stops here, before anything is sized by it.
 void read_binary_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply, FaceIndices faces,
+                     const std::function<void()>& checkpoint,
                      PlyBuilder& out) {
   const bool big_endian = ply.format == "binary_big_endian";
   std::size_t at = ply.body;
@@ -448,6 +451,7 @@ void read_binary_ply(const fs::path& path, const std::string& bytes, const PlyHe
   };
   for (const PlyElement& e : ply.elements) {
     for (long long i = 0; i < e.count; ++i) {
+      if (checkpoint && i % text::kItemsPerCheckpoint == 0) checkpoint();
       const auto where = [&] { return e.name + " " + std::to_string(i); };
       out.begin(e);
       for (const PlyProperty& prop : e.properties) {
@@ -495,13 +499,14 @@ void read_binary_ply(const fs::path& path, const std::string& bytes, const PlyHe
 
 }  // namespace
 
-StoredMesh read_ply(const fs::path& path, const std::string& bytes, FaceIndices faces) {
+StoredMesh read_ply(const fs::path& path, const std::string& bytes, FaceIndices faces,
+                    const std::function<void()>& checkpoint) {
   const PlyHeader ply = scan_ply(path, bytes);
   PlyBuilder out(ply, bytes.size());
   if (ply.format == "ascii") {
-    read_ascii_ply(path, bytes, ply, faces, out);
+    read_ascii_ply(path, bytes, ply, faces, checkpoint, out);
   } else {
-    read_binary_ply(path, bytes, ply, faces, out);
+    read_binary_ply(path, bytes, ply, faces, checkpoint, out);
   }
   return out.finish(path, ply);
 }

@@ -10,6 +10,8 @@
 namespace lhr {
 
 // bytes: the whole file, not empty. Throws InputError.
-StoredMesh read_ply(const std::filesystem::path& path, const std::string& bytes, FaceIndices faces);
+// checkpoint, when set, is called every few thousand elements.
+StoredMesh read_ply(const std::filesystem::path& path, const std::string& bytes, FaceIndices faces,
+                    const std::function<void()>& checkpoint = {});
 
 }  // namespace lhr

@@ -46,8 +46,8 @@ int colour_material(const Rgb& colour, std::map<std::array<int, 3>, int>& by_key
   return it->second;
 }
 
-PolygonSoup load_ply_off(const fs::path& path) {
-  const StoredMesh stored = read_ply_off(path, FaceIndices::kInRange);
+PolygonSoup load_ply_off(const fs::path& path, const std::function<void()>& checkpoint) {
+  const StoredMesh stored = read_ply_off(path, FaceIndices::kInRange, checkpoint);
 
   // The text checks above give line numbers; these repeat them for binary
   // files, where only the element index can be named.
@@ -94,7 +94,7 @@ PolygonSoup read_geometry(const fs::path& path, std::vector<std::string>& warnin
                           const std::function<void()>& checkpoint = {}) {
   const std::string ext = extension_of(path);
   if (ext == ".obj") return read_obj(path, warnings, checkpoint);
-  if (ext == ".ply" || ext == ".off") return load_ply_off(path);
+  if (ext == ".ply" || ext == ".off") return load_ply_off(path, checkpoint);
   throw InputError(path, "unsupported file type " + show(ext) + " (expected .obj, .ply or .off)");
 }
 
@@ -181,7 +181,7 @@ LoadResult load_scene(const std::filesystem::path& path, const LoadOptions& opti
   scene.settings = file.settings;
   const double crease =
       options.crease_angle_deg.value_or(scene.settings.crease_angle_deg.value_or(kDefaultCreaseAngleDeg));
-  SurfaceSplit split = split_into_surfaces(soup, crease);
+  SurfaceSplit split = split_into_surfaces(soup, crease, options.checkpoint);
   if (split.surfaces.empty()) throw InputError(geometry, "every face has zero area (empty scene)");
   scene.materials = std::move(soup.materials);
   scene.surfaces = std::move(split.surfaces);

@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <utility>
 
 namespace lhr::text {
@@ -41,16 +40,28 @@ std::string show(std::string_view s) {
   return quoted;
 }
 
-std::string read_file(const fs::path& path) {
+std::string read_file(const fs::path& path, const std::function<void()>& checkpoint) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "file not found");
   if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  // Read in slices into one buffer sized from the file: a file of tens of
+  // megabytes takes a tenth of a second or more to read, and a signal must
+  // not wait for that (docs/robustness.md, "Interrupted runs").
+  constexpr std::size_t kSlice = std::size_t{1} << 22;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  std::string text;
+  if (!ec) text.reserve(static_cast<std::size_t>(size) + kSlice);
+  while (in) {
+    if (checkpoint) checkpoint();
+    const std::size_t had = text.size();
+    text.resize(had + kSlice);
+    in.read(text.data() + had, static_cast<std::streamsize>(kSlice));
+    text.resize(had + static_cast<std::size_t>(in.gcount()));
+  }
   if (in.bad()) throw InputError(path, "read error");
-  return ss.str();
+  return text;
 }
 
 std::string without_bom(std::string text) {
@@ -58,9 +69,12 @@ std::string without_bom(std::string text) {
   return text;
 }
 
-void require_text(const fs::path& path, std::string_view text) {
+void require_text(const fs::path& path, std::string_view text, const std::function<void()>& checkpoint) {
+  constexpr std::size_t kSlice = std::size_t{1} << 22;
   int line = 1;
-  for (unsigned char c : text) {
+  for (std::size_t at = 0; at < text.size(); ++at) {
+    if (checkpoint && at % kSlice == 0) checkpoint();
+    const unsigned char c = text[at];
     if (c == '\n') {
       ++line;
     } else if (c < 32 && c != '\t' && c != '\r' && c != '\f' && c != '\v') {

@@ -23,7 +23,12 @@ std::string extension_of(const std::filesystem::path& path);
 // s quoted for a message, cut to 40 characters.
 std::string show(std::string_view s);
 
-std::string read_file(const std::filesystem::path& path);
+// The whole file; checkpoint, when set, is called between slices of a few
+// megabytes, so that a caller can stop a long read.
+std::string read_file(const std::filesystem::path& path, const std::function<void()>& checkpoint = {});
+// Lines or elements a reader parses between two calls of its checkpoint: a
+// few milliseconds of work.
+inline constexpr long long kItemsPerCheckpoint = 4096;
 // text without a leading UTF-8 byte-order mark: Windows editors write one,
 // and it would glue itself to the first keyword of an OBJ or MTL.
 std::string without_bom(std::string text);
@@ -31,7 +36,9 @@ std::string without_bom(std::string text);
 // Text formats never contain NUL or most other control bytes; finding one
 // means binary data (a wrong or corrupt file), which the parsers would
 // otherwise skip silently.
-void require_text(const std::filesystem::path& path, std::string_view text);
+// checkpoint as for read_file.
+void require_text(const std::filesystem::path& path, std::string_view text,
+                  const std::function<void()>& checkpoint = {});
 
 struct Line {
   int number = 0;

@@ -79,9 +79,10 @@ struct InputTriangles {
   double area = 0.0;
 };
 
-InputTriangles input_triangles(const Surface& surface, const std::vector<Point2>& q) {
+InputTriangles input_triangles(const Surface& surface, const std::vector<Point2>& q, MeshingCheckpoint& checkpoint) {
   InputTriangles input;
   for (std::size_t p = 0; p < surface.polygons.size(); ++p) {
+    checkpoint.tick();
     const auto& poly = surface.polygons[p];
     double signed_area = 0.0;
     for (std::size_t i = 0; i < poly.size(); ++i) {
@@ -117,10 +118,11 @@ InputTriangles input_triangles(const Surface& surface, const std::vector<Point2>
 // angles change by at most 1/cos(tilt) - 1 radians (the 3D triangle projects
 // onto the 2D one).
 double min_cos_tilt(const Surface& surface, const std::vector<std::array<int, 3>>& triangles, const Vec3& n,
-                    std::vector<Vec3>& tri_normal) {
+                    std::vector<Vec3>& tri_normal, MeshingCheckpoint& checkpoint) {
   tri_normal.resize(triangles.size());
   double min_cos = 1.0;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
+    checkpoint.tick();
     const auto& tri = triangles[t];
     const Vec3& a = surface.points[tri[0]];
     const Vec3 c = OpenMesh::cross(surface.points[tri[1]] - a, surface.points[tri[2]] - a);
@@ -138,15 +140,18 @@ double min_cos_tilt(const Surface& surface, const std::vector<std::array<int, 3>
 // the piecewise-linear input inside the region.
 std::vector<std::pair<int, int>> polygon_constraints(const Surface& surface,
                                                      const std::vector<std::array<int, 3>>& triangles,
-                                                     const std::vector<Vec3>& tri_normal) {
+                                                     const std::vector<Vec3>& tri_normal,
+                                                     MeshingCheckpoint& checkpoint) {
   std::map<std::uint64_t, int> polygon_edge_uses;
   for (const auto& poly : surface.polygons) {
+    checkpoint.tick();
     for (std::size_t i = 0; i < poly.size(); ++i) {
       if (poly[i] != poly[(i + 1) % poly.size()]) ++polygon_edge_uses[edge_key(poly[i], poly[(i + 1) % poly.size()])];
     }
   }
   std::vector<std::pair<int, int>> constraints;
   for (const auto& [key, uses] : polygon_edge_uses) {
+    checkpoint.tick();
     if (uses > 2) {
       throw std::runtime_error("edge (" + std::to_string(key >> 32) + "," + std::to_string(key & 0xffffffffu) +
                                ") is shared by " + std::to_string(uses) + " polygons");
@@ -155,11 +160,13 @@ std::vector<std::pair<int, int>> polygon_constraints(const Surface& surface,
   }
   std::map<std::uint64_t, std::vector<int>> triangle_edges;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
+    checkpoint.tick();
     for (int k = 0; k < 3; ++k) {
       triangle_edges[edge_key(triangles[t][k], triangles[t][(k + 1) % 3])].push_back(static_cast<int>(t));
     }
   }
   for (const auto& [key, tris] : triangle_edges) {
+    checkpoint.tick();
     if (tris.size() != 2 || (polygon_edge_uses.count(key) && polygon_edge_uses.at(key) == 1)) continue;
     const double c = std::clamp(OpenMesh::dot(tri_normal[tris[0]], tri_normal[tris[1]]), -1.0, 1.0);
     const double s = OpenMesh::cross(tri_normal[tris[0]], tri_normal[tris[1]]).norm();
@@ -187,11 +194,13 @@ ConstrainedRegion region_constraints(const PlaneFrame& frame, const std::vector<
 
 // The 2D mesh in 3D: input points where they were, the others on the input
 // triangle they fall in. Checks that the mesh covers the polygons' area.
-TriMesh lift(const Surface& surface, const RegionMesh& mesh2, const PointLocator& input, double input_area2) {
+TriMesh lift(const Surface& surface, const RegionMesh& mesh2, const PointLocator& input, double input_area2,
+             MeshingCheckpoint& checkpoint) {
   TriMesh mesh;
   std::vector<TriMesh::VertexHandle> handles;
   handles.reserve(mesh2.points.size());
   for (std::size_t i = 0; i < mesh2.points.size(); ++i) {
+    checkpoint.tick();
     Vec3 p;
     if (mesh2.surface_point[i] >= 0) {
       p = surface.points[mesh2.surface_point[i]];
@@ -211,6 +220,7 @@ TriMesh lift(const Surface& surface, const RegionMesh& mesh2, const PointLocator
   }
   double output_area2 = 0.0;
   for (const auto& t : mesh2.triangles) {
+    checkpoint.tick();
     output_area2 += 0.5 * orient2(mesh2.points[t[0]], mesh2.points[t[1]], mesh2.points[t[2]]);
     const auto fh = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
     if (!fh.is_valid()) {
@@ -229,16 +239,21 @@ TriMesh lift(const Surface& surface, const RegionMesh& mesh2, const PointLocator
 
 TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options, const std::vector<Segment3>& contacts,
                     double contact_tolerance) {
+  // A surface of 10^6 input polygons takes seconds to mesh: the steps below
+  // call the caller's checkpoint every few thousand items.
+  MeshingCheckpoint checkpoint(options.checkpoint);
   const PlaneFrame frame = plane_frame(surface);
   std::vector<Point2> q(surface.points.size());
   for (std::size_t i = 0; i < surface.points.size(); ++i) q[i] = frame.project(surface.points[i]);
-  const InputTriangles input = input_triangles(surface, q);
+  const InputTriangles input = input_triangles(surface, q, checkpoint);
   std::vector<Vec3> tri_normal;
-  const double min_cos = min_cos_tilt(surface, input.triangles, frame.n, tri_normal);
-  const ConstrainedRegion region =
-      region_constraints(frame, q, input.triangles, polygon_constraints(surface, input.triangles, tri_normal),
-                         contacts, contact_tolerance);
+  const double min_cos = min_cos_tilt(surface, input.triangles, frame.n, tri_normal, checkpoint);
+  const ConstrainedRegion region = region_constraints(
+      frame, q, input.triangles, polygon_constraints(surface, input.triangles, tri_normal, checkpoint), contacts,
+      contact_tolerance);
+  checkpoint();
   const PointLocator locator(q, input.triangles);
+  checkpoint();
 
   // Leave room for the tilt: 2D bounds tight enough that the 3D mesh keeps
   // edges <= h and angles >= the requested minimum.
@@ -247,7 +262,9 @@ TriMesh mesh_planar(const Surface& surface, const MeshingOptions& options, const
       std::min(options.min_angle_deg * kPi / 180.0 + tilt_angle_slack, kMaxMinAngleRad);
   const double shape_bound = std::pow(std::sin(min_angle_2d), 2);
   const double size_bound_2d = options.max_edge * min_cos * (1.0 - 1e-12);
-  return lift(surface, refine_region(region, locator, shape_bound, size_bound_2d), locator, input.area);
+  const RegionMesh mesh2 = refine_region(region, locator, shape_bound, size_bound_2d);
+  checkpoint();
+  return lift(surface, mesh2, locator, input.area, checkpoint);
 }
 
 }  // namespace lhr

@@ -40,10 +40,12 @@ Vec3 newell_vector(const std::vector<Vec3>& points, const std::vector<int>& poly
 
 // Positions that are bit-for-bit equal (with -0 == +0) share an id: OBJ
 // exporters duplicate vertices per face, which must not cut a surface.
-std::vector<int> weld_positions(const std::vector<Vec3>& points) {
+template <typename EverySoOften>
+std::vector<int> weld_positions(const std::vector<Vec3>& points, const EverySoOften& every_so_often) {
   std::map<std::array<double, 3>, int> ids;
   std::vector<int> weld(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
+    every_so_often(i);
     const std::array<double, 3> key{points[i][0] + 0.0, points[i][1] + 0.0, points[i][2] + 0.0};
     weld[i] = ids.emplace(key, static_cast<int>(ids.size())).first->second;
   }
@@ -211,16 +213,21 @@ void unite_light_panels(const PolygonSoup& soup, const std::vector<std::vector<i
 
 }  // namespace
 
-SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg) {
+SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg,
+                                 const std::function<void()>& checkpoint) {
   if (!std::isfinite(crease_angle_deg) || crease_angle_deg < 0.0 || crease_angle_deg > 180.0) {
     throw std::invalid_argument("crease angle must be in [0, 180] degrees, got " +
                                 std::to_string(crease_angle_deg));
   }
   SurfaceSplit split;
   const std::size_t n_faces = soup.faces.size();
+  constexpr std::size_t kItemsPerCheckpoint = 4096;
+  const auto every_so_often = [&](std::size_t i) {
+    if (checkpoint && i % kItemsPerCheckpoint == 0) checkpoint();
+  };
 
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  const std::vector<int> weld = weld_positions(soup.points);
+  const std::vector<int> weld = weld_positions(soup.points, every_so_often);
 
   // Welded polygons, with vertices that collapsed onto their neighbour removed.
   std::vector<std::vector<int>> welded(n_faces);
@@ -228,6 +235,7 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
   std::vector<double> area(n_faces, 0.0);
   std::vector<bool> kept(n_faces, false);
   for (std::size_t f = 0; f < n_faces; ++f) {
+    every_so_often(f);
     const std::vector<int>& in = soup.faces[f].vertices;
     std::vector<int>& out = welded[f];
     for (int v : in) {
@@ -250,6 +258,7 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
   // Faces meeting along an undirected welded edge.
   std::map<std::pair<int, int>, std::vector<int>> edge_faces;
   for (std::size_t f = 0; f < n_faces; ++f) {
+    every_so_often(f);
     if (!kept[f]) continue;
     const std::vector<int>& poly = welded[f];
     for (std::size_t i = 0; i < poly.size(); ++i) {
@@ -260,7 +269,9 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
     }
   }
   UnionFind components(n_faces);
+  std::size_t edges_seen = 0;
   for (const auto& [edge, faces] : edge_faces) {
+    every_so_often(edges_seen++);
     // An edge of more than two faces (a fin, a T-junction of walls) joins
     // none of them: each side becomes a surface of its own, which a quadtree
     // can carry, and the loader reports how many such edges it cut.
@@ -288,6 +299,7 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
   std::vector<Vec3> newell_sum;
   std::map<std::pair<int, int>, int> count_per_name;
   for (std::size_t f = 0; f < n_faces; ++f) {
+    every_so_often(f);
     if (!kept[f]) continue;
     const int root = components.find(static_cast<int>(f));
     auto [it, inserted] = surface_of_root.emplace(root, split.surfaces.size());
@@ -321,7 +333,9 @@ SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_de
   for (std::size_t f = 0; f < n_faces; ++f) {
     if (kept[f]) surface_of_face[f] = surface_of_root.at(components.find(static_cast<int>(f)));
   }
+  edges_seen = 0;
   for (const auto& [edge, faces] : edge_faces) {
+    every_so_often(edges_seen++);
     // A structured binding cannot be captured by a lambda before C++20's P1091 (clang 14).
     const std::size_t first_surface = surface_of_face[faces[0]];
     const bool seam = std::any_of(faces.begin(), faces.end(),

@@ -1,6 +1,7 @@
 #pragma once
 // Grouping loaded faces into surfaces (docs/design.md §3).
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -31,6 +32,9 @@ struct SurfaceSplit {
 // its normal by a small fraction of the scene size, so that it is in front:
 // coincident surfaces would otherwise be resolved by rounding, differently
 // by each ray.
-SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg);
+// checkpoint, when set, is called every few thousand faces: a soup of 10^6
+// faces takes a second to split, and a caller may need to stop it.
+SurfaceSplit split_into_surfaces(const PolygonSoup& soup, double crease_angle_deg,
+                                 const std::function<void()>& checkpoint = {});
 
 }  // namespace lhr

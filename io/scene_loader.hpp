@@ -16,8 +16,9 @@ namespace lhr {
 
 struct LoadOptions {
   std::optional<double> crease_angle_deg;  // overrides the scene file
-  // Called every few thousand lines while an OBJ is parsed: what it throws
-  // (an interrupt) ends the load.
+  // Called between slices of each file's read, every few thousand lines or
+  // elements of its parse and every few thousand faces of the split into
+  // surfaces: what it throws (an interrupt) ends the load.
   std::function<void()> checkpoint;
 };
 

@@ -378,5 +378,45 @@ TEST(PlanarMeshing, CornellBoxAtDefaultSizeIsFast) {
   for (std::size_t i = 0; i < faces.size(); ++i) check_planar(faces[i], o, meshes[i], 1);
 }
 
+// A planar surface of 10^5 input triangles is meshed in steps of a tenth of
+// a second each: the mesher calls the checkpoint in its passes over the
+// input and around CGAL's refinement, and what it throws leaves
+// mesh_surface as it was thrown (docs/robustness.md, "Interrupted runs").
+TEST(PlanarMeshing, ALargeSurfaceCallsTheCheckpointAndWhatItThrowsPassesThrough) {
+  constexpr int kSide = 160;
+  Surface s;
+  s.name = "grid";
+  s.planar = true;
+  s.normal = Vec3(0, 1, 0);
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) s.points.emplace_back(i, 0, j);
+  }
+  for (int j = 0; j + 1 < kSide; ++j) {
+    for (int i = 0; i + 1 < kSide; ++i) {
+      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
+      s.polygons.push_back({a, c, d});
+      s.polygons.push_back({a, d, b});
+    }
+  }
+  s.area = (kSide - 1.0) * (kSide - 1.0);
+  MeshingOptions o = with_h(40.0);
+  int calls = 0;
+  o.checkpoint = [&] { ++calls; };
+  const TriMesh mesh = mesh_surface(s, o);
+  EXPECT_GT(mesh.n_faces(), 0u);
+  // Ticks every 16 384 items in five passes over ~50 000 triangles and
+  // ~75 000 edges, and three calls between the steps.
+  EXPECT_GE(calls, 10);
+  struct Stop {};
+  for (const int stop_at : {1, calls / 2, calls}) {
+    int seen = 0;
+    o.checkpoint = [&] {
+      if (++seen == stop_at) throw Stop{};
+    };
+    EXPECT_THROW(mesh_surface(s, o), Stop) << "stopped at call " << stop_at;
+    EXPECT_EQ(seen, stop_at) << "nothing ran the checkpoint after it threw";
+  }
+}
+
 }  // namespace
 }  // namespace lhr

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <set>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "io/scene_loader.hpp"
+#include "mesh/surfaces.hpp"
 #include "test_support.hpp"
 
 namespace lhr {
@@ -238,6 +240,101 @@ TEST(SceneLoader, ZeroAreaFacesAreDroppedAndCounted) {
   EXPECT_NEAR(loaded.scene.surfaces[0].area, 0.5, 1e-12);
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_EQ(loaded.warnings[0], "dropped 1 zero-area faces");
+}
+
+// A grid of n x n vertices in y = 0, two triangles per cell, facing +y, as
+// each text format writes it (binary PLY beside): big enough that the
+// readers and the split pass their checkpoint many times.
+struct GridFiles {
+  int vertices = 0, faces = 0;
+  std::map<std::string, std::string> by_name;
+};
+
+GridFiles grid_files(int n) {
+  GridFiles g;
+  g.vertices = n * n;
+  g.faces = 2 * (n - 1) * (n - 1);
+  std::string points, obj_points, tris, obj_tris, off_tris;
+  std::string binary_points, binary_tris;
+  const auto append_bytes = [](std::string& out, const auto& value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+  };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::string xyz = std::to_string(i) + " 0 " + std::to_string(j);
+      points += xyz + "\n";
+      obj_points += "v " + xyz + "\n";
+      for (const float c : {static_cast<float>(i), 0.0f, static_cast<float>(j)}) append_bytes(binary_points, c);
+    }
+  }
+  for (int j = 0; j + 1 < n; ++j) {
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+      for (const std::array<int, 3>& t : {std::array<int, 3>{a, c, d}, std::array<int, 3>{a, d, b}}) {
+        const std::string idx = std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]);
+        tris += "3 " + idx + "\n";
+        obj_tris += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " +
+                    std::to_string(t[2] + 1) + "\n";
+        binary_tris.push_back(3);
+        for (const std::int32_t v : t) append_bytes(binary_tris, v);
+      }
+    }
+  }
+  const std::string header = "element vertex " + std::to_string(g.vertices) +
+                             "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                             std::to_string(g.faces) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  g.by_name["grid.obj"] = obj_points + obj_tris;
+  g.by_name["grid.ply"] = "ply\nformat ascii 1.0\n" + header + points + tris;
+  g.by_name["grid_binary.ply"] = "ply\nformat binary_little_endian 1.0\n" + header + binary_points + binary_tris;
+  g.by_name["grid.off"] = "OFF\n" + std::to_string(g.vertices) + " " + std::to_string(g.faces) + " 0\n" + points + tris;
+  return g;
+}
+
+// A signal must not wait for the whole of a large file's read, parse and
+// split (docs/robustness.md, "Interrupted runs"): every reader calls the
+// checkpoint every few thousand lines or elements, the split every few
+// thousand faces and edges, and what the checkpoint throws ends the load
+// as it was thrown.
+TEST(SceneLoader, EveryFormatCallsTheCheckpointAsItLoadsAndWhatItThrowsEndsTheLoad) {
+  constexpr int kSide = 120;
+  const GridFiles grid = grid_files(kSide);
+  // What the split calls on the same grid as a soup.
+  PolygonSoup soup;
+  soup.materials = {Material{}};
+  soup.groups = {"g"};
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) soup.points.emplace_back(i, 0, j);
+  }
+  for (int j = 0; j + 1 < kSide; ++j) {
+    for (int i = 0; i + 1 < kSide; ++i) {
+      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
+      soup.faces.push_back({{a, c, d}, 0, 0, 0});
+      soup.faces.push_back({{a, d, b}, 0, 0, 0});
+    }
+  }
+  int split_calls = 0;
+  ASSERT_EQ(split_into_surfaces(soup, 30.0, [&] { ++split_calls; }).surfaces.size(), 1u);
+  struct Stop {};
+  for (const auto& [name, text] : grid.by_name) {
+    SCOPED_TRACE(name);
+    const auto path = fresh_file("loader_checkpoint", name, text);
+    LoadOptions options;
+    int calls = 0;
+    options.checkpoint = [&] { ++calls; };
+    const LoadResult loaded = load_scene(path, options);
+    ASSERT_EQ(loaded.scene.surfaces.size(), 1u);
+    // The reader's own calls: at least one per 4 096 of the vertex and
+    // face lines or elements it parses, beside the split's.
+    EXPECT_GE(calls - split_calls, (grid.vertices + grid.faces) / 4096);
+    for (const int stop_at : {1, 3, calls / 2, calls}) {
+      int seen = 0;
+      options.checkpoint = [&] {
+        if (++seen == stop_at) throw Stop{};
+      };
+      EXPECT_THROW(load_scene(path, options), Stop) << "stopped at call " << stop_at;
+      EXPECT_EQ(seen, stop_at) << "nothing ran the checkpoint after it threw";
+    }
+  }
 }
 
 }  // namespace

@@ -104,5 +104,42 @@ TEST(SurfaceSplit, CoplanarPiecesOfALightThatReflectsNothingShootAsOneSurface) {
   }
 }
 
+// A soup of 10^6 faces takes a second to split: the split calls the
+// checkpoint every few thousand faces and edges, and what it throws ends
+// the split (docs/robustness.md, "Interrupted runs").
+TEST(SurfaceSplit, ALargeSoupCallsTheCheckpointAndWhatItThrowsEndsTheSplit) {
+  constexpr int kSide = 100;
+  PolygonSoup soup;
+  soup.materials = {Material{}};
+  soup.groups = {"g"};
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) soup.points.emplace_back(i, 0, j);
+  }
+  for (int j = 0; j + 1 < kSide; ++j) {
+    for (int i = 0; i + 1 < kSide; ++i) {
+      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
+      soup.faces.push_back({{a, c, d}, 0, 0, 0});
+      soup.faces.push_back({{a, d, b}, 0, 0, 0});
+    }
+  }
+  int calls = 0;
+  const SurfaceSplit split = split_into_surfaces(soup, 30.0, [&] { ++calls; });
+  EXPECT_EQ(split.surfaces.size(), 1u);
+  // The faces are passed over three times, the points and the edges (about
+  // 1.5 per face) twice.
+  const int faces = static_cast<int>(soup.faces.size());
+  EXPECT_GE(calls, 3 * (faces / 4096) + kSide * kSide / 4096 + 2 * (3 * faces / 2 / 4096));
+  struct Stop {};
+  for (const int stop_at : {1, calls / 2, calls}) {
+    int seen = 0;
+    EXPECT_THROW(split_into_surfaces(soup, 30.0,
+                                     [&] {
+                                       if (++seen == stop_at) throw Stop{};
+                                     }),
+                 Stop);
+    EXPECT_EQ(seen, stop_at) << "nothing ran the checkpoint after it threw";
+  }
+}
+
 }  // namespace
 }  // namespace lhr

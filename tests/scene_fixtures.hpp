@@ -24,6 +24,26 @@
 
 namespace lhr::test {
 
+// A side x side grid of points in y = 0, 1 apart, two triangles per cell
+// facing +y, one material and group: a soup large enough for the loaders'
+// and the split's checkpoints to run many times.
+inline PolygonSoup grid_soup(int side) {
+  PolygonSoup soup;
+  soup.materials = {Material{}};
+  soup.groups = {"g"};
+  for (int j = 0; j < side; ++j) {
+    for (int i = 0; i < side; ++i) soup.points.emplace_back(i, 0, j);
+  }
+  for (int j = 0; j + 1 < side; ++j) {
+    for (int i = 0; i + 1 < side; ++i) {
+      const int a = j * side + i, b = a + 1, c = a + side, d = c + 1;
+      soup.faces.push_back({{a, c, d}, 0, 0, 0});
+      soup.faces.push_back({{a, d, b}, 0, 0, 0});
+    }
+  }
+  return soup;
+}
+
 // Adds a quad (counter-clockwise seen from its front) to a soup.
 inline void add_quad(PolygonSoup& soup, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int material,
                      int group) {

@@ -16,6 +16,7 @@
 
 #include "io/scene_loader.hpp"
 #include "mesh/surfaces.hpp"
+#include "scene_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace lhr {
@@ -299,21 +300,8 @@ TEST(SceneLoader, EveryFormatCallsTheCheckpointAsItLoadsAndWhatItThrowsEndsTheLo
   constexpr int kSide = 120;
   const GridFiles grid = grid_files(kSide);
   // What the split calls on the same grid as a soup.
-  PolygonSoup soup;
-  soup.materials = {Material{}};
-  soup.groups = {"g"};
-  for (int j = 0; j < kSide; ++j) {
-    for (int i = 0; i < kSide; ++i) soup.points.emplace_back(i, 0, j);
-  }
-  for (int j = 0; j + 1 < kSide; ++j) {
-    for (int i = 0; i + 1 < kSide; ++i) {
-      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
-      soup.faces.push_back({{a, c, d}, 0, 0, 0});
-      soup.faces.push_back({{a, d, b}, 0, 0, 0});
-    }
-  }
   int split_calls = 0;
-  ASSERT_EQ(split_into_surfaces(soup, 30.0, [&] { ++split_calls; }).surfaces.size(), 1u);
+  ASSERT_EQ(split_into_surfaces(test::grid_soup(kSide), 30.0, [&] { ++split_calls; }).surfaces.size(), 1u);
   struct Stop {};
   for (const auto& [name, text] : grid.by_name) {
     SCOPED_TRACE(name);

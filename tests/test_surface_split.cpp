@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesh/surfaces.hpp"
+#include "scene_fixtures.hpp"
 
 namespace lhr {
 namespace {
@@ -109,19 +110,7 @@ TEST(SurfaceSplit, CoplanarPiecesOfALightThatReflectsNothingShootAsOneSurface) {
 // the split (docs/robustness.md, "Interrupted runs").
 TEST(SurfaceSplit, ALargeSoupCallsTheCheckpointAndWhatItThrowsEndsTheSplit) {
   constexpr int kSide = 100;
-  PolygonSoup soup;
-  soup.materials = {Material{}};
-  soup.groups = {"g"};
-  for (int j = 0; j < kSide; ++j) {
-    for (int i = 0; i < kSide; ++i) soup.points.emplace_back(i, 0, j);
-  }
-  for (int j = 0; j + 1 < kSide; ++j) {
-    for (int i = 0; i + 1 < kSide; ++i) {
-      const int a = j * kSide + i, b = a + 1, c = a + kSide, d = c + 1;
-      soup.faces.push_back({{a, c, d}, 0, 0, 0});
-      soup.faces.push_back({{a, d, b}, 0, 0, 0});
-    }
-  }
+  const PolygonSoup soup = test::grid_soup(kSide);
   int calls = 0;
   const SurfaceSplit split = split_into_surfaces(soup, 30.0, [&] { ++calls; });
   EXPECT_EQ(split.surfaces.size(), 1u);

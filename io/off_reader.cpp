@@ -62,7 +62,8 @@ Rgb decode_colour(const fs::path& path, const ColourTokens& c, bool floats, cons
 // one line at a time: the tokens of every line at once took more memory
 // than the mesh they build. Only the vertex colours wait, as views, for
 // the end of the vertex list, since their scale is decided per file.
-StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceIndices faces, const std::function<void()>& checkpoint) {
+StoredMesh read_ascii_off(const fs::path& path, const std::string& text, FaceIndices faces,
+                          const std::function<void()>& checkpoint) {
   text::require_text(path, text, checkpoint);
   text::LineReader lines(text, true);
   Line head;
@@ -293,10 +294,12 @@ StoredMesh read_binary_off(const fs::path& path, const std::string& bytes, FaceI
 
 }  // namespace
 
-StoredMesh read_off(const fs::path& path, const std::string& bytes, FaceIndices faces, const std::function<void()>& checkpoint) {
+StoredMesh read_off(const fs::path& path, const std::string& bytes, FaceIndices faces,
+                    const std::function<void()>& checkpoint) {
   const std::size_t newline = bytes.find('\n');
   const bool binary = newline != std::string::npos && bytes.substr(0, newline).find("BINARY") != std::string::npos;
-  return binary ? read_binary_off(path, bytes, faces, checkpoint) : read_ascii_off(path, bytes, faces, checkpoint);
+  return binary ? read_binary_off(path, bytes, faces, checkpoint)
+                : read_ascii_off(path, bytes, faces, checkpoint);
 }
 
 }  // namespace lhr

@@ -333,8 +333,7 @@ double as_stored(std::string_view token, double value, const PlyType& type) {
 
 // ASCII PLY body: one element per line in header order, with line numbers.
 void read_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply, FaceIndices faces,
-                    const std::function<void()>& checkpoint,
-                    PlyBuilder& out) {
+                    const std::function<void()>& checkpoint, PlyBuilder& out) {
   const int header_lines = static_cast<int>(std::count(bytes.begin(), bytes.begin() + ply.end, '\n')) + 1;
   const std::string_view text = std::string_view(bytes).substr(std::min(ply.body, bytes.size()));
   text::require_text(path, text, checkpoint);
@@ -419,8 +418,7 @@ void read_ascii_ply(const fs::path& path, const std::string& bytes, const PlyHea
 // Binary PLY body: walked element by element so that a count or list
 // length the data cannot hold stops here, before anything is sized by it.
 void read_binary_ply(const fs::path& path, const std::string& bytes, const PlyHeader& ply, FaceIndices faces,
-                     const std::function<void()>& checkpoint,
-                     PlyBuilder& out) {
+                     const std::function<void()>& checkpoint, PlyBuilder& out) {
   const bool big_endian = ply.format == "binary_big_endian";
   std::size_t at = ply.body;
   const auto read_integer = [&](const PlyType& type) {

@@ -58,6 +58,10 @@ int run_solve(const Args& args) {
        "linear: also split a receiver edge, wherever the camera looks, when the reflected power its linear "
        "interpolant misplaces reaches this fraction of the power the lights emit: the exported mesh's accuracy "
        "in object space (smaller brings each surface's mean closer to the truth, at more elements)")
+      ("redraw-cluster-links",
+       "linear: draw every link from a cluster of initial triangles again in every iteration, from the radiance "
+       "its shooter then holds, not only when it is made: takes out the excess that shape factors made from the "
+       "direct light keep (docs/accuracy.md, \"A shape factor that ages\"), at several times the solve's cost")
       ("vis-threshold", double_value(LinearOptions{}.vis_threshold),
        "linear: a visibility difference along an edge at least this large makes the receiver oracle conservative")
       ("link-power", double_value(LinearOptions{}.link_power),
@@ -142,6 +146,7 @@ int run_solve(const Args& args) {
   linear.vis_threshold = vm["vis-threshold"].as<double>();
   linear.eps_vertex = vm["eps-vertex"].as<double>();
   linear.eps_power = vm["eps-power"].as<double>();
+  linear.redraw_cluster_links = vm.count("redraw-cluster-links") > 0;
   linear.link_power = vm["link-power"].as<double>();
   classical.min_edge = linear.min_edge = min_edge;
   classical.max_iterations = linear.max_iterations = max_iterations;

@@ -99,6 +99,13 @@ struct LinearOptions {
   // into one when the shooter oracle would keep that link (docs/design.md,
   // "Coarsening links"); false keeps every link it opened, as the paper does.
   bool coarsen_links = true;
+  // Draw every link from a cluster of a surface's roots again in every
+  // iteration, from the radiance its shooter then holds. A cluster link's
+  // shape factor is made from its shooter's values when it is drawn, mostly
+  // in the first iterations, peaked under the lamps; the bounces even them
+  // out, and the early factors keep an excess (docs/accuracy.md, "A shape
+  // factor that ages"). Several times the solve's cost.
+  bool redraw_cluster_links = false;
   // k: at least k² basis-weighted shadow rays per link, more where a node's
   // noise needs them (noise_bounded_k).
   int visibility_samples = 4;

@@ -180,10 +180,7 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
     // cluster's mean as this receiver weights its roots, from the radiance
     // the cluster holds now.
     assert(st.root_luminance.empty() || st.root_luminance.size() == st.root_triangles.size());
-    const bool open = c.exposed_area > 0;
-    const std::span<const double> openness =
-        open ? std::span<const double>(st.clusters.root_exposure) : std::span<const double>();
-    ShooterShape shape{st.root_luminance, openness, luminance(st.clusters.radiance[cluster_index(shooter)])};
+    ShooterShape shape{st.root_luminance, luminance(st.clusters.radiance[cluster_index(shooter)])};
     const ShooterShape* shape_in = st.root_luminance.empty() ? nullptr : &shape;
     const Surface& shooter_surface = model_.scene().surfaces[s];
     if (shooter == kWholeSurface && shooter_surface.planar) {

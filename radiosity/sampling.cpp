@@ -1,5 +1,6 @@
 #include "radiosity/sampling.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lhr {
@@ -52,6 +53,82 @@ TriangleSample uniform_triangle_sample(std::uint64_t key) {
     t = 1.0 - t;
   }
   return {{1.0 - s - t, s, t}};
+}
+
+namespace {
+
+// The part of v across the unit vector a, normalized: the tangent at a of
+// the great circle from a toward v.
+Vec3 tangent_toward(const Vec3& a, const Vec3& v) {
+  const Vec3 t = v - OpenMesh::dot(v, a) * a;
+  const double len = t.norm();
+  return len > 0 ? t / len : Vec3(0, 0, 0);
+}
+
+// The spherical triangle's angle at unit vertex a, between its sides to b
+// and c.
+double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 tb = tangent_toward(a, b), tc = tangent_toward(a, c);
+  return std::atan2(OpenMesh::cross(tb, tc).norm(), OpenMesh::dot(tb, tc));
+}
+
+}  // namespace
+
+double triangle_solid_angle(const Vec3& x, const std::array<Vec3, 3>& t) {
+  const Vec3 a = t[0] - x, b = t[1] - x, c = t[2] - x;
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double triple = std::abs(OpenMesh::dot(a, OpenMesh::cross(b, c)));
+  const double denominator =
+      la * lb * lc + OpenMesh::dot(a, b) * lc + OpenMesh::dot(b, c) * la + OpenMesh::dot(c, a) * lb;
+  return 2.0 * std::atan2(triple, denominator);
+}
+
+SphericalTriangle::SphericalTriangle(const Vec3& x, const std::array<Vec3, 3>& t) {
+  const Vec3 da = t[0] - x, db = t[1] - x, dc = t[2] - x;
+  const double la = da.norm(), lb = db.norm(), lc = dc.norm();
+  if (!(la > 0 && lb > 0 && lc > 0)) return;
+  a_ = da / la;
+  b_ = db / lb;
+  c_ = dc / lc;
+  // Van Oosterom and Strackee on the unit corner directions.
+  const double triple = std::abs(OpenMesh::dot(a_, OpenMesh::cross(b_, c_)));
+  omega_ = 2.0 * std::atan2(triple, 1.0 + OpenMesh::dot(a_, b_) + OpenMesh::dot(b_, c_) + OpenMesh::dot(c_, a_));
+  if (!(omega_ >= kTinySolidAngle)) return;
+  toward_c_ = tangent_toward(a_, c_);
+  const double alpha = corner_angle(a_, b_, c_);
+  alpha_ = alpha;
+  sin_alpha_ = std::sin(alpha);
+  cos_alpha_ = std::cos(alpha);
+  cos_c_ = std::clamp(OpenMesh::dot(a_, b_), -1.0, 1.0);
+  valid_ = sin_alpha_ > 0.0;
+}
+
+std::optional<Vec3> SphericalTriangle::sample(double u1, double u2) const {
+  if (!valid_) return std::nullopt;
+  // Arvo's construction: the sub-triangle a-b-ĉ of area u1·Ω, its corner ĉ on
+  // the side from a to c, then a point on the arc from b to ĉ whose cosine
+  // to b is uniform.
+  const double sub_area = u1 * omega_;
+  const double s = std::sin(sub_area - alpha_), co = std::cos(sub_area - alpha_);
+  const double u = co - cos_alpha_;
+  const double v = s + sin_alpha_ * cos_c_;
+  const double denominator = (v * s + u * co) * sin_alpha_;
+  if (!(std::abs(denominator) > 0)) return std::nullopt;
+  const double q = std::clamp(((v * co - u * s) * cos_alpha_ - v) / denominator, -1.0, 1.0);
+  const Vec3 c_hat = q * a_ + std::sqrt(std::max(0.0, 1.0 - q * q)) * toward_c_;
+  const double z = 1.0 - u2 * (1.0 - OpenMesh::dot(c_hat, b_));
+  const Vec3 direction = z * b_ + std::sqrt(std::max(0.0, 1.0 - z * z)) * tangent_toward(b_, c_hat);
+  const double len = direction.norm();
+  if (!(len > 0)) return std::nullopt;
+  return direction / len;
+}
+
+std::optional<SphericalTriangleSample> spherical_triangle_sample(const Vec3& x, const std::array<Vec3, 3>& t,
+                                                                 double u1, double u2) {
+  const SphericalTriangle triangle(x, t);
+  const std::optional<Vec3> direction = triangle.sample(u1, u2);
+  if (!direction) return std::nullopt;
+  return SphericalTriangleSample{*direction, triangle.solid_angle()};
 }
 
 std::vector<Vec3> hemisphere_probe_directions(const Vec3& n) {

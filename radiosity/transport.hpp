@@ -101,25 +101,20 @@ struct ShooterTriangles {
 // What the triangles of a constant-basis shooter hold, so that a link
 // carries what its receiver sees of them rather than their mean
 // (docs/accuracy.md, "A bright part that sees more"): per triangle its mean
-// luminance and how open it is to the scene, and the mean the shooter carries
-// (its triangles' luminance weighted by area and openness). The link's f[0]
-// is scaled by Σ F_j open_j V_j value_j / (carried Σ F_j open_j V_j), the
-// mean as this receiver's form factors and shadow rays weight it over the
-// mean the element carries (V_j: the share of triangle j the rays find
-// visible; docs/accuracy.md, "What a table hides").
-// `value` and `openness` are per row of the shooter's ShooterTriangleTable;
-// an empty `openness` means every triangle is open.
+// luminance, and the mean the shooter carries. The link's f[0] is then
+// Σ_j F_j V_j value_j / carried (V_j: how much of triangle j the receiver
+// sees, from the shadow rays; docs/accuracy.md, "What a table hides").
+// `value` is per row of the shooter's ShooterTriangleTable.
 struct ShooterShape {
   std::span<const double> value;
-  std::span<const double> openness;
   double carried = 0.0;
-  double open(std::size_t row) const { return openness.empty() ? 1.0 : openness[row]; }
 };
 
 // Constant-basis shooter made of several triangles (a root cluster): f[0] is
-// the exact form factor of all of them times the visible fraction of shadow
-// rays drawn in proportion to each triangle's share of it (times the shape
-// factor when `shape` is given). `corner_edges`, when given, names the
+// the exact form factor of all of them times the share of its shadow rays
+// that arrive, the rays drawn in proportion to each triangle's share of it
+// and within each triangle in proportion to the kernel (each part weighed by
+// its value when `shape` is given). `corner_edges`, when given, names the
 // table's triangles' edges (shared_edge_form_factors, per row): the same
 // form factors, each shared edge integrated once.
 TransportCoefficients cluster_transport(const ReceiverPoint& receiver, const ShooterTriangles& shooter,
@@ -133,13 +128,14 @@ TransportCoefficients cluster_transport(const ReceiverPoint& receiver,
                                         const ShooterShape* shape = nullptr);
 
 // A whole planar surface as one constant-basis shooter: f[0] is the exact
-// form factor of its input polygons times the visible fraction of shadow rays
-// to its triangles, drawn in proportion to each triangle's form factor
-// (exact near the receiver, a disc estimate farther off; a cluster whose
-// outline cannot give its form factor uses exact ones). Drawing by area and weighting by the kernel instead
-// lets the few samples nearest a receiver in a corner decide the whole
-// fraction (the kernel grows as 1/r⁴ there), which misjudged a floor seen
-// from the foot of a wall by 30 % (docs/accuracy.md).
+// form factor of its input polygons times the weighted share of its shadow
+// rays that arrive, the rays drawn to its triangles in proportion to each
+// one's form factor (exact near the receiver, a disc estimate farther off; a
+// cluster whose outline cannot give its form factor uses exact ones) and
+// within each in proportion to the kernel. Drawing by area and weighting by
+// the kernel instead lets the few samples nearest a receiver in a corner
+// decide the whole fraction (the kernel grows as 1/r⁴ there), which
+// misjudged a floor seen from the foot of a wall by 30 % (docs/accuracy.md).
 TransportCoefficients surface_transport(const ReceiverPoint& receiver, std::span<const std::vector<Vec3>> polygons,
                                         const ShooterTriangles& triangles, const RayCaster& rays,
                                         const TransportSampling& sampling, std::uint64_t& ray_count,

@@ -172,12 +172,17 @@ TEST(EnergyBalance, ABrightClosedRoomSeenInPartAbsorbsWhatItsLampEmits) {
 }
 
 // The same loss is what --eps-power bounds (docs/accuracy.md, "The power
-// bound"): ten times looser, the room loses a measurable share of its lamp
-// (measured: 0.9934 of it, against 0.9983 at the default).
+// bound"): ten times looser, the room loses a measurable share of its lamp.
+// Both runs draw every cluster link again in every iteration: as made, the
+// shape factors drawn from the first bounces keep an excess in this room
+// (docs/accuracy.md, "A shape factor that ages") that is not this loss and
+// would hide it.
 TEST(EnergyBalance, ALooserPowerBoundLosesMoreAtTheJunctions) {
-  LinearOptions loose;
+  LinearOptions fresh;
+  fresh.redraw_cluster_links = true;
+  LinearOptions loose = fresh;
   loose.eps_power = 10.0 * LinearOptions{}.eps_power;
-  const double at_default = bright_room_balance(LinearOptions{});
+  const double at_default = bright_room_balance(fresh);
   const double when_loose = bright_room_balance(loose);
   EXPECT_LT(when_loose, 0.995) << "absorbed / emitted at eps_power " << loose.eps_power;
   EXPECT_LT(when_loose, at_default - 0.0025) << "default " << at_default << ", loose " << when_loose;

@@ -589,18 +589,7 @@ bool LinearSolver::refine() {
   changed |= refine_receivers(pending, *tone);
   if (options_.checkpoint) options_.checkpoint();
   compute_coefficients(pending);
-  if (options_.redraw_cluster_links) {
-    pending.clear();
-    for (std::size_t g = 0; g < graphs_.size(); ++g) {
-      for (int v = 0; v < static_cast<int>(graphs_[g].num_vertices()); ++v) {
-        const auto links = graphs_[g].links(v);
-        for (std::size_t slot = 0; slot < links.size(); ++slot) {
-          if (is_cluster_element(links[slot].shooter)) pending.push_back({static_cast<int>(g), v, slot});
-        }
-      }
-    }
-    compute_coefficients(pending);
-  }
+  if (options_.redraw_cluster_links) redraw_cluster_links();
   // The coefficients of the new links count as their own phase.
   stats_.seconds_oracles -= stats_.seconds_coefficients - coefficient_seconds;
   std::vector<std::vector<BFloat16>>().swap(graph_importance_);

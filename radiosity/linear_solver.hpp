@@ -104,7 +104,8 @@ struct LinearOptions {
   // shape factor is made from its shooter's values when it is drawn, mostly
   // in the first iterations, peaked under the lamps; the bounces even them
   // out, and the early factors keep an excess (docs/accuracy.md, "A shape
-  // factor that ages"). Several times the solve's cost.
+  // factor that ages"). A measuring instrument: about four times the solve's
+  // time, and each cluster link keeps k² rays.
   bool redraw_cluster_links = false;
   // k: at least k² basis-weighted shadow rays per link, more where a node's
   // noise needs them (noise_bounded_k).
@@ -237,6 +238,9 @@ class LinearSolver {
   // their power.
   double leave_out_past_the_budget(const std::vector<std::pair<double, int>>& waiting, std::vector<bool>& starts);
   void compute_coefficients(std::vector<PendingLink>& pending);
+  // LinearOptions::redraw_cluster_links: every cluster link's own draw
+  // again, from its shooter's radiance now.
+  void redraw_cluster_links();
   // One draw of a link's coefficients with k² rays per shooter triangle;
   // draws with different `draw` numbers are independent.
   TransportCoefficients coefficients(const InteractionGraph& g, int vertex, NodeId shooter, int k,

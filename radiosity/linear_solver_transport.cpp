@@ -292,4 +292,33 @@ void LinearSolver::compute_coefficients(std::vector<PendingLink>& pending) {
   stats_.shadow_rays += rays.load();
 }
 
+void LinearSolver::redraw_cluster_links() {
+  PhaseTimer timer(stats_.seconds_coefficients);
+  std::vector<PendingLink> pending;
+  for (std::size_t g = 0; g < graphs_.size(); ++g) {
+    for (int v = 0; v < static_cast<int>(graphs_[g].num_vertices()); ++v) {
+      const auto links = graphs_[g].links(v);
+      for (std::size_t slot = 0; slot < links.size(); ++slot) {
+        if (is_cluster_element(links[slot].shooter)) pending.push_back({static_cast<int>(g), v, slot});
+      }
+    }
+  }
+  std::atomic<std::uint64_t> rays{0};
+  interruptible_parallel_for(pending.size(), options_.checkpoint, [&](std::size_t i) {
+    const PendingLink& p = pending[i];
+    InteractionGraph& g = graphs_[p.graph];
+    GraphLink& link = g.links(p.vertex)[p.slot];
+    if (!(link.coefficients.unoccluded > 0.0f)) return;
+    std::uint64_t local = 0;
+    // Never the pilot's rays, which the oracles judged the link by
+    // (compute_coefficients), and k² of them in every iteration: a count
+    // that followed the node's value (noise_bounded_k) would change the rays
+    // from one iteration to the next, and the solve would not settle.
+    const SharedLinkGeometry shared;
+    link.coefficients = coefficients(g, p.vertex, link.shooter, options_.visibility_samples, 1, local);
+    rays += local;
+  });
+  stats_.shadow_rays += rays.load();
+}
+
 }  // namespace lhr

@@ -117,19 +117,20 @@ double cosine_bound(const Vec3& n, const Vec3& a, const Vec3& b, const Vec3& c) 
 // its form factor is then too small to matter.
 constexpr int kCosineDraws = 32;
 
-// Beyond this many of its longest edges from x, a triangle's kernel varies
-// over it by a factor of two or so: a point drawn by area and kept with
-// chance the kernel over a bound of it (kernel_drawn_point) is cosine-drawn
-// as well as Arvo's construction draws it, at a tenth of the cost (drawing
-// every ray by solid angle made a Cornell box solve half again as long).
-constexpr double kFarTriangle = 4.0;
+// Beyond this many of its longest edges from x, a triangle's kernel is
+// bounded well enough over it that a point drawn by area and kept with
+// chance the kernel over a bound of it (kernel_drawn_point) takes a few
+// cheap attempts: it is drawn as Arvo's construction draws it, at a small
+// part of the cost (drawing every ray by solid angle made a Cornell box
+// solve half again as long; drawing by area beyond four edges, 19 % longer).
+constexpr double kFarTriangle = 2.0;
 
 // A point of a triangle far from x (beyond kFarTriangle of its sizes), drawn
 // in proportion to the kernel cosθx cosθy / r² over its area: uniformly,
 // kept with chance the kernel over a bound of it (cosθx r is linear over the
 // triangle and greatest at a corner, cosθy r is x's height over its plane,
-// and r is at least the centroid's distance less the farthest corner's
-// from it). nullopt where x faces no part of it.
+// and r is at least that height and the centroid's distance less the
+// farthest corner's from it). nullopt where x faces no part of it.
 std::optional<Vec3> kernel_drawn_point(const Vec3& origin, const Vec3& n, const std::array<Vec3, 3>& corners,
                                        const Vec3& centroid, const Vec3& ny, double height, std::uint64_t key) {
   double along_n = 0.0, spread2 = 0.0;
@@ -137,14 +138,23 @@ std::optional<Vec3> kernel_drawn_point(const Vec3& origin, const Vec3& n, const 
     along_n = std::max(along_n, OpenMesh::dot(n, c - origin));
     spread2 = std::max(spread2, (c - centroid).sqrnorm());
   }
-  const double nearest = (centroid - origin).norm() - std::sqrt(spread2);
+  const double nearest = std::max((centroid - origin).norm() - std::sqrt(spread2), height);
   if (!(along_n > 0.0) || !(nearest > 0.0)) return std::nullopt;
   const double r2 = nearest * nearest;
   const double bound = along_n * height / (r2 * r2);
+  // Three 21-bit uniforms from one hash an attempt: the attempts are most of
+  // this draw's cost.
+  constexpr double kUnit21 = 0x1.0p-21;
   for (int attempt = 0; attempt < kCosineDraws; ++attempt) {
-    const std::uint64_t k = sample_key(key, static_cast<std::uint64_t>(attempt));
-    const Vec3 y = at(corners, uniform_triangle_sample(k));
-    if (unit_double(sample_key(k, 3)) * bound < kernel(origin, n, y, ny)) return y;
+    const std::uint64_t bits = mix_bits(key + static_cast<std::uint64_t>(attempt) * 0x9E3779B97F4A7C15ull);
+    double s = static_cast<double>(bits & 0x1FFFFF) * kUnit21;
+    double t = static_cast<double>((bits >> 21) & 0x1FFFFF) * kUnit21;
+    if (s + t > 1.0) {  // fold the unit square onto the triangle: uniform by area
+      s = 1.0 - s;
+      t = 1.0 - t;
+    }
+    const Vec3 y = (1.0 - s - t) * corners[0] + s * corners[1] + t * corners[2];
+    if (static_cast<double>(bits >> 42) * kUnit21 * 0.5 * bound < kernel(origin, n, y, ny)) return y;
   }
   const Vec3 y = at(corners, uniform_triangle_sample(key));
   if (!(kernel(origin, n, y, ny) > 0.0)) return std::nullopt;

@@ -141,6 +141,28 @@ TEST(SolveCommand, TheLinearMethodIsTheDefault) {
   EXPECT_NE(unknown.err.find("--method"), std::string::npos) << unknown.err;
 }
 
+// --redraw-cluster-links reaches the solver: the same solve draws every
+// cluster link again in every iteration, so it traces more shadow rays
+// (docs/accuracy.md, "A shape factor that ages").
+TEST(SolveCommand, RedrawClusterLinksTracesTheirRaysAgain) {
+  const auto dir = test::fresh_dir("solve_redraw");
+  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
+  const std::vector<std::string> coarse{"--max-edge", "140", "--eps-link", "160", "--eps-pixel", "4",
+                                        "--max-iterations", "5", "--quiet"};
+  std::vector<std::string> as_made{"solve", scene, "--out", (dir / "m").string()};
+  as_made.insert(as_made.end(), coarse.begin(), coarse.end());
+  std::vector<std::string> redrawn{"solve", scene, "--out", (dir / "r").string(), "--redraw-cluster-links"};
+  redrawn.insert(redrawn.end(), coarse.begin(), coarse.end());
+  const auto m = test::run_lhr(as_made);
+  const auto r = test::run_lhr(redrawn);
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto stats_m = nlohmann::json::parse(test::read_text(dir / "m" / "stats.json"));
+  const auto stats_r = nlohmann::json::parse(test::read_text(dir / "r" / "stats.json"));
+  ASSERT_GT(stats_m["iterations"].get<int>(), 1);
+  EXPECT_GT(stats_r["shadow_rays"].get<double>(), 1.2 * stats_m["shadow_rays"].get<double>());
+}
+
 TEST(SolveCommand, ThreadCountDoesNotChangeTheResult) {
   for (const std::string method : kMethods) {
     SCOPED_TRACE(method);

@@ -123,14 +123,6 @@ std::optional<Vec3> SphericalTriangle::sample(double u1, double u2) const {
   return direction / len;
 }
 
-std::optional<SphericalTriangleSample> spherical_triangle_sample(const Vec3& x, const std::array<Vec3, 3>& t,
-                                                                 double u1, double u2) {
-  const SphericalTriangle triangle(x, t);
-  const std::optional<Vec3> direction = triangle.sample(u1, u2);
-  if (!direction) return std::nullopt;
-  return SphericalTriangleSample{*direction, triangle.solid_angle()};
-}
-
 std::vector<Vec3> hemisphere_probe_directions(const Vec3& n) {
   constexpr int kRings = 4, kSectors = 8;
   const Vec3 t =

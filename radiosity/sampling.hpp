@@ -47,36 +47,29 @@ TriangleSample uniform_triangle_sample(std::uint64_t key);
 // formula; 0 when x lies on its plane).
 double triangle_solid_angle(const Vec3& x, const std::array<Vec3, 3>& t);
 
-// A direction drawn uniformly over the solid angle a triangle subtends from
-// x, from two uniform numbers in [0,1) (Arvo, "Stratified sampling of
-// spherical triangles", 1995), and that solid angle. Weighing each such
-// direction by cosθx Ω / π estimates the triangle's form factor from x with
-// no 1/r² in the weight: points drawn by area and weighed by the kernel let
-// the few nearest x decide a near triangle's share (docs/accuracy.md, "Under
-// the table, light source by light source"). nullopt where the construction
-// loses its precision (a solid angle below kTinySolidAngle, x at a corner):
-// there the kernel hardly varies over the triangle, and drawing by area is
-// as good.
-struct SphericalTriangleSample {
-  Vec3 direction;  // unit, from x into the triangle
-  double solid_angle = 0.0;
-};
+// Directions drawn uniformly over the solid angle a triangle subtends from
+// x, each from two uniform numbers in [0,1) (Arvo, "Stratified sampling of
+// spherical triangles", 1995), with what depends on x and the triangle alone
+// worked out once, for many draws (a draw kept with a chance, say). A
+// cluster link's shadow rays near the receiver are drawn this way and kept
+// with chance cosθx, so that each stands for an equal part of the
+// triangle's form factor: points drawn by area and counted alike measure
+// its visible share of area instead (docs/accuracy.md, "Under the table,
+// light source by light source"). Not valid where the construction loses
+// its precision (a solid angle below kTinySolidAngle, x at a corner): there
+// the kernel hardly varies over the triangle, and drawing by area is as
+// good.
 inline constexpr double kTinySolidAngle = 1e-9;
-std::optional<SphericalTriangleSample> spherical_triangle_sample(const Vec3& x, const std::array<Vec3, 3>& t,
-                                                                 double u1, double u2);
-
-// The same construction with what depends on x and the triangle alone
-// worked out once, for many draws (a draw kept with a chance, say).
 class SphericalTriangle {
  public:
   SphericalTriangle(const Vec3& x, const std::array<Vec3, 3>& t);
-  // False where spherical_triangle_sample gives nullopt for every draw.
   bool valid() const { return valid_; }
   double solid_angle() const { return omega_; }
   // Unit directions from x to the corners.
   const Vec3& a() const { return a_; }
   const Vec3& b() const { return b_; }
   const Vec3& c() const { return c_; }
+  // A unit direction from x into the triangle; nullopt where not valid().
   std::optional<Vec3> sample(double u1, double u2) const;
 
  private:

@@ -63,6 +63,9 @@ TEST(SphericalTriangleSample, EveryDirectionMeetsTheTriangleAndEachQuarterGetsIt
   for (const Case& c : kCases) {
     const Triangle& t = c.t;
     const double omega = triangle_solid_angle(c.x, t);
+    const SphericalTriangle spherical(c.x, t);
+    ASSERT_TRUE(spherical.valid()) << "x " << c.x;
+    EXPECT_NEAR(spherical.solid_angle(), omega, 1e-15 + 1e-12 * omega);
     // The triangle cut at its edges' midpoints: a uniform draw lands in each
     // quarter in proportion to the quarter's own solid angle.
     const Vec3 m01 = 0.5 * (t[0] + t[1]), m12 = 0.5 * (t[1] + t[2]), m20 = 0.5 * (t[2] + t[0]);
@@ -70,11 +73,10 @@ TEST(SphericalTriangleSample, EveryDirectionMeetsTheTriangleAndEachQuarterGetsIt
                                            Triangle{m20, m12, t[2]}, Triangle{m01, m12, m20}};
     std::array<int, 4> landed{0, 0, 0, 0};
     for (int i = 0; i < kDraws; ++i) {
-      const auto s = spherical_triangle_sample(c.x, t, unit_double(sample_key(1, i)), unit_double(sample_key(2, i)));
-      ASSERT_TRUE(s) << "x " << c.x;
-      EXPECT_NEAR(s->solid_angle, omega, 1e-15 + 1e-12 * omega);
-      EXPECT_NEAR(s->direction.norm(), 1.0, 1e-12);
-      const auto w = barycentric_hit(c.x, s->direction, t);
+      const auto direction = spherical.sample(unit_double(sample_key(1, i)), unit_double(sample_key(2, i)));
+      ASSERT_TRUE(direction) << "x " << c.x;
+      EXPECT_NEAR(direction->norm(), 1.0, 1e-12);
+      const auto w = barycentric_hit(c.x, *direction, t);
       for (double wk : w) ASSERT_GT(wk, -1e-7) << "x " << c.x << ", draw " << i;
       // Quarter by quarter: the corner quarters are where each weight exceeds
       // one half, the middle one where none does.
@@ -100,11 +102,12 @@ TEST(SphericalTriangleSample, CosineTimesSolidAngleOverPiAveragesToTheFormFactor
     // cos θx varies across it.
     const Vec3 centroid = (c.t[0] + c.t[1] + c.t[2]) / 3.0;
     const Vec3 n = ((centroid - c.x).normalized() + Vec3(0.2, -0.1, 0.15)).normalized();
+    const SphericalTriangle spherical(c.x, c.t);
     double sum = 0.0, sum2 = 0.0;
     for (int i = 0; i < kDraws; ++i) {
-      const auto s = spherical_triangle_sample(c.x, c.t, unit_double(sample_key(3, i)), unit_double(sample_key(4, i)));
-      ASSERT_TRUE(s);
-      const double f = std::max(0.0, OpenMesh::dot(n, s->direction)) * s->solid_angle / M_PI;
+      const auto direction = spherical.sample(unit_double(sample_key(3, i)), unit_double(sample_key(4, i)));
+      ASSERT_TRUE(direction);
+      const double f = std::max(0.0, OpenMesh::dot(n, *direction)) * spherical.solid_angle() / M_PI;
       sum += f;
       sum2 += f * f;
     }
@@ -121,10 +124,10 @@ TEST(SphericalTriangleSample, CosineTimesSolidAngleOverPiAveragesToTheFormFactor
 
 TEST(SphericalTriangleSample, TinyOrDegenerateTrianglesAreLeftToDrawingByArea) {
   const Triangle t{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
-  EXPECT_FALSE(spherical_triangle_sample(Vec3(0.3, 0.3, 0), t, 0.5, 0.5));  // on its plane
-  EXPECT_FALSE(spherical_triangle_sample(Vec3(0, 0, 0), t, 0.5, 0.5));      // at a corner
-  EXPECT_FALSE(spherical_triangle_sample(Vec3(0, 0, 1e6), t, 0.5, 0.5));    // 1e-12 sr
-  EXPECT_TRUE(spherical_triangle_sample(Vec3(0, 0, 1e4), t, 0.5, 0.5));     // 5e-9 sr
+  EXPECT_FALSE(SphericalTriangle(Vec3(0.3, 0.3, 0), t).sample(0.5, 0.5));  // on its plane
+  EXPECT_FALSE(SphericalTriangle(Vec3(0, 0, 0), t).sample(0.5, 0.5));      // at a corner
+  EXPECT_FALSE(SphericalTriangle(Vec3(0, 0, 1e6), t).sample(0.5, 0.5));    // 1e-12 sr
+  EXPECT_TRUE(SphericalTriangle(Vec3(0, 0, 1e4), t).sample(0.5, 0.5));     // 5e-9 sr
 }
 
 }  // namespace

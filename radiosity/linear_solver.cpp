@@ -77,6 +77,12 @@ LinearSolver::LinearSolver(MeshedScene& model, LinearOptions options)
     // its whole-surface form factor (unoccluded_form_factor) and its cluster
     // links' (transport_to).
     st.outlines = cluster_outlines(model_.hierarchy(s), st.clusters.tree, st.root_edges);
+    // An emitter's first links see it uniform, as it starts.
+    st.shaped_root_luminance.assign(corners.size(), luminance(m.emission));
+    st.shaped_cluster_luminance.resize(st.clusters.radiance.size());
+    for (std::size_t c = 0; c < st.clusters.radiance.size(); ++c) {
+      st.shaped_cluster_luminance[c] = luminance(st.clusters.radiance[c]);
+    }
     sync_vertices(s);
   }
 }
@@ -223,12 +229,6 @@ void LinearSolver::pull(int s) {
   std::vector<double> node_area(h.num_nodes());
   for (std::size_t n = 0; n < node_area.size(); ++n) node_area[n] = model_.area(s, static_cast<NodeId>(n));
   project_linear_nodes(h, st.radiance, node_area, st.shooter);
-  // Each root's mean luminance, for the shape factor of every cluster link made
-  // before the next pull (docs/accuracy.md, "A bright part that sees more").
-  st.root_luminance.resize(st.shooter.root_integral.size());
-  for (std::size_t root = 0; root < st.root_luminance.size(); ++root) {
-    st.root_luminance[root] = node_area[root] > 0 ? luminance(st.shooter.root_integral[root]) / node_area[root] : 0.0;
-  }
   for (std::size_t c = 0; c < st.clusters.tree.size(); ++c) {
     const RootCluster& cluster = st.clusters.tree[c];
     const bool open = cluster.exposed_area > 0;
@@ -236,6 +236,38 @@ void LinearSolver::pull(int s) {
     for (NodeId root : cluster.roots) weighted += (open ? st.clusters.root_exposure[root] : 1.0) * st.shooter.root_integral[root];
     st.clusters.radiance[c] = weighted / std::max(open ? cluster.exposed_area : cluster.area, 1e-300);
   }
+  // docs/accuracy.md, "A shape factor that ages": only the radiance's shape
+  // enters a shape factor, so each cluster is taken relative to the whole.
+  const double was_whole = st.shaped_cluster_luminance[0], now_whole = luminance(st.clusters.radiance[0]);
+  if (!options_.rescale_cluster_links) {
+    take_shaped_luminance(s);
+    return;
+  }
+  if (!(now_whole > 0.0)) return;
+  if (!(was_whole > 0.0)) {
+    // Its first light: nothing links from a surface without it.
+    take_shaped_luminance(s);
+    return;
+  }
+  for (std::size_t c = 0; c < st.clusters.tree.size() && !st.reshape_due; ++c) {
+    const double was = st.shaped_cluster_luminance[c], now = luminance(st.clusters.radiance[c]);
+    const double moved = was > 0.0 ? std::abs((now * was_whole) / (now_whole * was) - 1.0) : (now > 0.0 ? 1.0 : 0.0);
+    st.reshape_due = moved > kShapeDrift;
+  }
+}
+
+void LinearSolver::take_shaped_luminance(int s) {
+  SurfaceState& st = surfaces_[s];
+  st.shaped_root_luminance.resize(st.shooter.root_integral.size());
+  for (std::size_t root = 0; root < st.shaped_root_luminance.size(); ++root) {
+    const double area = model_.area(s, static_cast<NodeId>(root));
+    st.shaped_root_luminance[root] = area > 0 ? luminance(st.shooter.root_integral[root]) / area : 0.0;
+  }
+  st.shaped_cluster_luminance.resize(st.clusters.radiance.size());
+  for (std::size_t c = 0; c < st.clusters.radiance.size(); ++c) {
+    st.shaped_cluster_luminance[c] = luminance(st.clusters.radiance[c]);
+  }
+  st.reshape_due = false;
 }
 
 void LinearSolver::update_spread() {
@@ -565,6 +597,7 @@ double LinearSolver::push() {
     surfaces_[r].drift = drift[r];
     pull(r);
   });
+  reshape_cluster_links();
   return *std::max_element(change.begin(), change.end());
 }
 
@@ -672,7 +705,8 @@ void LinearSolver::collect_stats() {
     stats_.bytes_values += st.radiance.capacity() * sizeof(Rgb) + st.parents.capacity() * sizeof(st.parents[0]) +
                            st.approach.capacity() * sizeof(Vec3) +
                            st.shooter.corners.capacity() * sizeof(st.shooter.corners[0]) +
-                           st.root_luminance.capacity() * sizeof(double) +
+                           (st.shaped_root_luminance.capacity() + st.shaped_cluster_luminance.capacity()) *
+                               sizeof(double) +
                            (st.shooter.root_integral.capacity() + st.shooter.spread.capacity()) * sizeof(Rgb) +
                            (st.pixels.capacity() + st.deposit.capacity() + st.importance.capacity()) * sizeof(double);
   }
@@ -688,6 +722,7 @@ void LinearStats::write_json(nlohmann::json& doc) const {
               {"receiver_judgements", receiver_judgements},
               {"shooter_judgements", shooter_judgements},
               {"shooter_refinements", shooter_refinements},
+              {"cluster_links_rescaled", cluster_links_rescaled},
               {"vertex_error_refinements", vertex_error_refinements},
               {"shooter_coarsenings", shooter_coarsenings},
               {"links_linked_past_budget", links_linked_past_budget},

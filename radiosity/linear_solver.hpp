@@ -107,6 +107,15 @@ struct LinearOptions {
   // factor that ages"). A measuring instrument: about four times the solve's
   // time, and each cluster link keeps k² rays.
   bool redraw_cluster_links = false;
+  // Rescale every link from a cluster of a surface's roots, without new
+  // rays, once its shooter's radiance relative to its mean has moved by 1 %
+  // from the values its shape factors were made with: the receiver's view of
+  // the cluster's parts, five levels of the cluster tree down, weighed by
+  // those values and by the values now (docs/accuracy.md, "A shape factor
+  // that ages"). Takes out the same excess as redraw_cluster_links at a
+  // small part of its cost; off by default because the losses it uncovers
+  // are not yet fixed (the same section).
+  bool rescale_cluster_links = false;
   // k: at least k² basis-weighted shadow rays per link, more where a node's
   // noise needs them (noise_bounded_k).
   int visibility_samples = 4;
@@ -144,6 +153,7 @@ struct LinearStats : SolverStats {
   std::size_t receiver_judgements = 0;  // graphs the receiver oracle judged, summed over its passes
   std::size_t shooter_judgements = 0;   // graphs whose links the shooter oracle judged, summed over iterations
   std::size_t shooter_refinements = 0;  // shooter-oracle link refinements
+  std::size_t cluster_links_rescaled = 0;  // LinearOptions::rescale_cluster_links
   std::size_t vertex_error_refinements = 0;  // of those, asked for by eps_vertex alone
   std::size_t shooter_coarsenings = 0;  // links merged back into their parent element
   double world_adaptation = 0.0;
@@ -197,7 +207,15 @@ class LinearSolver {
     // What each node shoots with and how far that is from the radiance it
     // stands for; the same bound for each cluster's mean (shooter_spread.hpp).
     LinearShooterValues shooter;
-    std::vector<double> root_luminance;  // per root: its mean luminance at the last pull
+    // docs/accuracy.md, "A shape factor that ages": the luminances, per root
+    // and per cluster, that the shape factors of its cluster links stand on,
+    // its values at the last pull. With rescale_cluster_links they are kept
+    // until its radiance relative to its mean has moved from them by
+    // kShapeDrift; every cluster link from it is then rescaled to the
+    // radiance it holds, which they become (reshape_cluster_links).
+    std::vector<double> shaped_root_luminance;
+    std::vector<double> shaped_cluster_luminance;
+    bool reshape_due = false;
     std::vector<double> pixels;      // per node: image pixels it covers
     std::vector<double> deposit;     // per node: importance its links carried back to it
     std::vector<double> importance;  // per node: pixels plus what reflection makes of it elsewhere
@@ -241,6 +259,18 @@ class LinearSolver {
   // LinearOptions::redraw_cluster_links: every cluster link's own draw
   // again, from its shooter's radiance now.
   void redraw_cluster_links();
+  // Each shooter's radiance as its cluster links' shape factors take it:
+  // at every pull, or with rescale_cluster_links at its first light and
+  // again, with every cluster link from it rescaled, once the pull has
+  // marked it reshape_due.
+  static constexpr double kShapeDrift = 0.01;
+  static constexpr int kShapeDepth = 5;
+  void take_shaped_luminance(int s);
+  void reshape_cluster_links();
+  // A cluster link's shape factor rescaled from the shooter's shaped
+  // luminances to its radiance now, as the receiver at `vertex` sees its
+  // parts (clusters kShapeDepth levels down) without occlusion.
+  double reshape_scale(const InteractionGraph& g, int vertex, NodeId shooter) const;
   // One draw of a link's coefficients with k² rays per shooter triangle;
   // draws with different `draw` numbers are independent.
   TransportCoefficients coefficients(const InteractionGraph& g, int vertex, NodeId shooter, int k,

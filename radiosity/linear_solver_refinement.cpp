@@ -179,13 +179,20 @@ std::optional<GraphLink> LinearSolver::merged_link(int s, NodeId parent, std::sp
   const RootCluster& cluster = st.clusters.tree[cluster_index(parent)];
   const std::size_t expected = cluster.first_child >= 0 ? 2 : cluster.roots.size();
   if (slots.size() != expected) return std::nullopt;
-  const double carried = luminance(st.clusters.radiance[cluster_index(parent)]);
+  // Child clusters' factors stand on the shaped luminances ("A shape factor
+  // that ages"), and so does the parent's; roots shoot their corners now,
+  // within kShapeDrift of those.
+  const std::size_t top = cluster_index(parent);
+  const bool shaped = cluster.first_child >= 0;
+  const double carried = shaped ? st.shaped_cluster_luminance[top] : luminance(st.clusters.radiance[top]);
   double visible = 0.0, transfer = 0.0;
   for (std::size_t t : slots) {
     const GraphLink& child = links[t];
     for (int l = 0; l < 3; ++l) {
       visible += child.coefficients.f[l];
-      transfer += child.coefficients.f[l] * luminance(shooter_value(s, child.shooter, l));
+      const double value = shaped ? (l == 0 ? st.shaped_cluster_luminance[cluster_index(child.shooter)] : 0.0)
+                                  : luminance(shooter_value(s, child.shooter, l));
+      transfer += child.coefficients.f[l] * value;
     }
     unoccluded += child.coefficients.unoccluded;
   }

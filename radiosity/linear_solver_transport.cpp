@@ -10,6 +10,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+
 #include "radiosity/form_factor.hpp"
 #include "radiosity/interruptible.hpp"
 #include "radiosity/sampling.hpp"
@@ -179,9 +181,11 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
     // docs/accuracy.md, "A bright part that sees more": the link carries the
     // cluster's mean as this receiver weights its roots, from the radiance
     // the cluster holds now.
-    assert(st.root_luminance.empty() || st.root_luminance.size() == st.root_triangles.size());
-    ShooterShape shape{st.root_luminance, luminance(st.clusters.radiance[cluster_index(shooter)])};
-    const ShooterShape* shape_in = st.root_luminance.empty() ? nullptr : &shape;
+    // The luminances are those all its links stand on ("A shape factor that
+    // ages"), not its radiance now.
+    assert(st.shaped_root_luminance.size() == st.root_triangles.size());
+    ShooterShape shape{st.shaped_root_luminance, st.shaped_cluster_luminance[cluster_index(shooter)]};
+    const ShooterShape* shape_in = &shape;
     const Surface& shooter_surface = model_.scene().surfaces[s];
     if (shooter == kWholeSurface && shooter_surface.planar) {
       // Reused across links: the input polygons are few, but allocating
@@ -319,6 +323,91 @@ void LinearSolver::redraw_cluster_links() {
     rays += local;
   });
   stats_.shadow_rays += rays.load();
+}
+
+namespace {
+
+// A cluster's form factor from x as a disc of its open area facing along its
+// mean normal: the weight its part of a receiver's view takes when a shape
+// factor is rescaled.
+double cluster_disc_form_factor(const ReceiverPoint& x, const RootCluster& part) {
+  const double area = part.exposed_area > 0.0 ? part.exposed_area : part.area;
+  const Vec3 d = part.centroid - x.x;
+  const double r2 = d.sqrnorm();
+  if (!(r2 > 0.0)) return 0.0;
+  const double r = std::sqrt(r2);
+  const double cos_x = std::clamp(OpenMesh::dot(x.normal, d) / r, 0.0, 1.0);
+  const double cos_y = std::clamp(-OpenMesh::dot(part.normal, d) / r, 0.0, 1.0);
+  return area * cos_x * cos_y / (M_PI * r2 + area);
+}
+
+}  // namespace
+
+double LinearSolver::reshape_scale(const InteractionGraph& g, int vertex, NodeId shooter) const {
+  const SurfaceState& st = surfaces_[g.shooter_surface()];
+  const std::size_t top = cluster_index(shooter);
+  const double was = st.shaped_cluster_luminance[top], now = luminance(st.clusters.radiance[top]);
+  if (!(was > 0.0 && now > 0.0)) return 1.0;
+  const int r = g.receiver_surface();
+  const VertexId v = g.vertex(vertex);
+  thread_local std::vector<CollocationPoint> points;
+  if (model_.scene().surfaces[r].planar) {
+    points.assign(1, {planar_collocation_point(r, v), 1.0});
+  } else {
+    points = collocation_points(r, v);
+  }
+  // The parts: the clusters kShapeDepth levels below, or leaf clusters above that.
+  thread_local std::vector<std::pair<std::int32_t, int>> stack;
+  stack.assign(1, {static_cast<std::int32_t>(top), 0});
+  double seen_was = 0.0, seen_now = 0.0;
+  while (!stack.empty()) {
+    const auto [c, depth] = stack.back();
+    stack.pop_back();
+    const RootCluster& cluster = st.clusters.tree[c];
+    if (cluster.first_child >= 0 && depth < kShapeDepth) {
+      stack.push_back({cluster.first_child, depth + 1});
+      stack.push_back({cluster.first_child + 1, depth + 1});
+      continue;
+    }
+    double w = 0.0;
+    for (const CollocationPoint& p : points) w += p.weight * cluster_disc_form_factor(p.point, cluster);
+    seen_was += w * st.shaped_cluster_luminance[c];
+    seen_now += w * luminance(st.clusters.radiance[c]);
+  }
+  if (!(seen_was > 0.0)) return 1.0;
+  return (seen_now / now) / (seen_was / was);
+}
+
+void LinearSolver::reshape_cluster_links() {
+  if (!options_.rescale_cluster_links && !options_.redraw_cluster_links) return;
+  std::vector<std::uint8_t> due(surfaces_.size(), 0);
+  bool any = false;
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    // Links drawn again every iteration stand on the radiance now.
+    due[s] = surfaces_[s].reshape_due || options_.redraw_cluster_links;
+    any = any || due[s];
+  }
+  if (!any) return;
+  if (!options_.redraw_cluster_links) {
+    std::atomic<std::size_t> rescaled{0};
+    tbb::parallel_for(std::size_t{0}, graphs_.size(), [&](std::size_t gi) {
+      InteractionGraph& g = graphs_[gi];
+      if (!due[g.shooter_surface()]) return;
+      std::size_t here = 0;
+      for (int v = 0; v < static_cast<int>(g.num_vertices()); ++v) {
+        for (GraphLink& link : g.links(v)) {
+          if (!is_cluster_element(link.shooter) || link.coefficients.f[0] == 0.0f) continue;
+          link.coefficients.f[0] = static_cast<float>(link.coefficients.f[0] * reshape_scale(g, v, link.shooter));
+          ++here;
+        }
+      }
+      rescaled += here;
+    });
+    stats_.cluster_links_rescaled += rescaled.load();
+  }
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    if (due[s]) take_shaped_luminance(static_cast<int>(s));
+  }
 }
 
 }  // namespace lhr

@@ -163,6 +163,27 @@ TEST(SolveCommand, RedrawClusterLinksTracesTheirRaysAgain) {
   EXPECT_GT(stats_r["shadow_rays"].get<double>(), 1.2 * stats_m["shadow_rays"].get<double>());
 }
 
+// --rescale-cluster-links reaches the solver: cluster links are rescaled
+// as the light's shape changes over the bounces, and none are without it.
+TEST(SolveCommand, RescaleClusterLinksRescalesThem) {
+  const auto dir = test::fresh_dir("solve_rescale");
+  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
+  const std::vector<std::string> coarse{"--max-edge", "140", "--eps-link", "160", "--eps-pixel", "4",
+                                        "--max-iterations", "5", "--quiet"};
+  std::vector<std::string> as_made{"solve", scene, "--out", (dir / "m").string()};
+  as_made.insert(as_made.end(), coarse.begin(), coarse.end());
+  std::vector<std::string> rescaled{"solve", scene, "--out", (dir / "r").string(), "--rescale-cluster-links"};
+  rescaled.insert(rescaled.end(), coarse.begin(), coarse.end());
+  const auto m = test::run_lhr(as_made);
+  const auto r = test::run_lhr(rescaled);
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto stats_m = nlohmann::json::parse(test::read_text(dir / "m" / "stats.json"));
+  const auto stats_r = nlohmann::json::parse(test::read_text(dir / "r" / "stats.json"));
+  EXPECT_EQ(stats_m["cluster_links_rescaled"].get<std::size_t>(), 0u);
+  EXPECT_GT(stats_r["cluster_links_rescaled"].get<std::size_t>(), 0u);
+}
+
 TEST(SolveCommand, ThreadCountDoesNotChangeTheResult) {
   for (const std::string method : kMethods) {
     SCOPED_TRACE(method);

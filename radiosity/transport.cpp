@@ -168,10 +168,11 @@ std::optional<Vec3> kernel_drawn_point(const Vec3& origin, const Vec3& n, const 
 // the triangle barely rises above x's horizon; a point drawn by area that
 // x faces stands in, so that a link hidden by its shooter's every triangle
 // still has a ray that says so. nullopt where x faces no such point.
+// `triangle` is the corners' from origin and `bound` its cosine_bound (0
+// where it is not valid): set up once for all the rays a triangle gets.
 std::optional<Vec3> cosine_drawn_point(const Vec3& origin, const Vec3& n, const std::array<Vec3, 3>& corners,
-                                       const Vec3& ny, double height, std::uint64_t key) {
-  const SphericalTriangle triangle(origin, corners);
-  const double bound = triangle.valid() ? cosine_bound(n, triangle.a(), triangle.b(), triangle.c()) : 0.0;
+                                       const SphericalTriangle& triangle, double bound, const Vec3& ny,
+                                       double height, std::uint64_t key) {
   for (int attempt = 0; attempt < kCosineDraws && bound > 0.0; ++attempt) {
     const std::uint64_t k = sample_key(key, static_cast<std::uint64_t>(attempt));
     const std::optional<Vec3> direction =
@@ -200,6 +201,11 @@ void trace_shadow_rays(const ReceiverPoint& receiver, const ShooterTriangles& tr
   thread_local std::vector<std::uint8_t> blocked;
   segments.clear();
   const ShooterTriangleTable& table = *triangles.table;
+  // Drawn systematically, a near triangle's rays come one after another: its
+  // spherical triangle and cosine bound are set up once for all of them.
+  std::size_t near_row = std::numeric_limits<std::size_t>::max();
+  std::optional<SphericalTriangle> near;
+  double near_bound = 0.0;
   for (std::size_t i = 0; i < count; ++i) {
     const double u = (static_cast<double>(i) + offset) / static_cast<double>(count) * drawing.back();
     const std::size_t j = std::min<std::size_t>(
@@ -214,9 +220,14 @@ void trace_shadow_rays(const ReceiverPoint& receiver, const ShooterTriangles& tr
     if (!(height > 0.0)) continue;
     const std::uint64_t key = sample_key(sampling.key, 2, i);
     const bool far = (table.centroid[row] - origin).sqrnorm() > kFarTriangle * kFarTriangle * table.size2[row];
+    if (!far && row != near_row) {
+      near.emplace(origin, table.corner[row]);
+      near_bound = near->valid() ? cosine_bound(receiver.normal, near->a(), near->b(), near->c()) : 0.0;
+      near_row = row;
+    }
     const std::optional<Vec3> y =
         far ? kernel_drawn_point(origin, receiver.normal, table.corner[row], table.centroid[row], ny, height, key)
-            : cosine_drawn_point(origin, receiver.normal, table.corner[row], ny, height, key);
+            : cosine_drawn_point(origin, receiver.normal, table.corner[row], *near, near_bound, ny, height, key);
     if (!y) continue;
     segments.push_back({rays.lift(origin, receiver.normal), rays.lift(*y, ny)});
     outcomes.push_back({j, true, &weighing == &drawing ? 1.0 : share(weighing, j) / drawn});

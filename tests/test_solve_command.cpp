@@ -141,47 +141,46 @@ TEST(SolveCommand, TheLinearMethodIsTheDefault) {
   EXPECT_NE(unknown.err.find("--method"), std::string::npos) << unknown.err;
 }
 
+// Statistics of a short, coarse Cornell box solve as made and with `flag`.
+struct StatsPair {
+  nlohmann::json as_made, flagged;
+};
+StatsPair coarse_cornell_with_and_without(const std::string& name, const std::string& flag) {
+  const auto dir = test::fresh_dir(name);
+  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
+  const std::vector<std::string> coarse{"--max-edge", "140", "--eps-link", "160", "--eps-pixel", "4",
+                                        "--max-iterations", "5", "--quiet"};
+  StatsPair out;
+  for (const bool with : {false, true}) {
+    const std::filesystem::path d = dir / (with ? "f" : "m");
+    std::vector<std::string> args{"solve", scene, "--out", d.string()};
+    if (with) args.push_back(flag);
+    args.insert(args.end(), coarse.begin(), coarse.end());
+    const auto run = test::run_lhr(args);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    (with ? out.flagged : out.as_made) =
+        run.exit_code == 0 ? nlohmann::json::parse(test::read_text(d / "stats.json")) : nlohmann::json::object();
+  }
+  return out;
+}
+
 // --redraw-cluster-links reaches the solver: the same solve draws every
 // cluster link again in every iteration, so it traces more shadow rays
 // (docs/accuracy.md, "A shape factor that ages").
 TEST(SolveCommand, RedrawClusterLinksTracesTheirRaysAgain) {
-  const auto dir = test::fresh_dir("solve_redraw");
-  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
-  const std::vector<std::string> coarse{"--max-edge", "140", "--eps-link", "160", "--eps-pixel", "4",
-                                        "--max-iterations", "5", "--quiet"};
-  std::vector<std::string> as_made{"solve", scene, "--out", (dir / "m").string()};
-  as_made.insert(as_made.end(), coarse.begin(), coarse.end());
-  std::vector<std::string> redrawn{"solve", scene, "--out", (dir / "r").string(), "--redraw-cluster-links"};
-  redrawn.insert(redrawn.end(), coarse.begin(), coarse.end());
-  const auto m = test::run_lhr(as_made);
-  const auto r = test::run_lhr(redrawn);
-  ASSERT_EQ(m.exit_code, 0) << m.err;
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto stats_m = nlohmann::json::parse(test::read_text(dir / "m" / "stats.json"));
-  const auto stats_r = nlohmann::json::parse(test::read_text(dir / "r" / "stats.json"));
-  ASSERT_GT(stats_m["iterations"].get<int>(), 1);
-  EXPECT_GT(stats_r["shadow_rays"].get<double>(), 1.2 * stats_m["shadow_rays"].get<double>());
+  const StatsPair stats = coarse_cornell_with_and_without("solve_redraw", "--redraw-cluster-links");
+  ASSERT_TRUE(stats.as_made.contains("iterations") && stats.flagged.contains("shadow_rays"));
+  ASSERT_GT(stats.as_made["iterations"].get<int>(), 1);
+  EXPECT_GT(stats.flagged["shadow_rays"].get<double>(), 1.2 * stats.as_made["shadow_rays"].get<double>());
 }
 
 // --rescale-cluster-links reaches the solver: cluster links are rescaled
 // as the light's shape changes over the bounces, and none are without it.
 TEST(SolveCommand, RescaleClusterLinksRescalesThem) {
-  const auto dir = test::fresh_dir("solve_rescale");
-  const std::string scene = (test::source_dir() / "data/cornell/cornell.scene.json").string();
-  const std::vector<std::string> coarse{"--max-edge", "140", "--eps-link", "160", "--eps-pixel", "4",
-                                        "--max-iterations", "5", "--quiet"};
-  std::vector<std::string> as_made{"solve", scene, "--out", (dir / "m").string()};
-  as_made.insert(as_made.end(), coarse.begin(), coarse.end());
-  std::vector<std::string> rescaled{"solve", scene, "--out", (dir / "r").string(), "--rescale-cluster-links"};
-  rescaled.insert(rescaled.end(), coarse.begin(), coarse.end());
-  const auto m = test::run_lhr(as_made);
-  const auto r = test::run_lhr(rescaled);
-  ASSERT_EQ(m.exit_code, 0) << m.err;
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto stats_m = nlohmann::json::parse(test::read_text(dir / "m" / "stats.json"));
-  const auto stats_r = nlohmann::json::parse(test::read_text(dir / "r" / "stats.json"));
-  EXPECT_EQ(stats_m["cluster_links_rescaled"].get<std::size_t>(), 0u);
-  EXPECT_GT(stats_r["cluster_links_rescaled"].get<std::size_t>(), 0u);
+  const StatsPair stats = coarse_cornell_with_and_without("solve_rescale", "--rescale-cluster-links");
+  ASSERT_TRUE(stats.as_made.contains("cluster_links_rescaled") && stats.flagged.contains("cluster_links_rescaled"));
+  EXPECT_EQ(stats.as_made["cluster_links_rescaled"].get<std::size_t>(), 0u);
+  EXPECT_GT(stats.flagged["cluster_links_rescaled"].get<std::size_t>(), 0u);
 }
 
 TEST(SolveCommand, ThreadCountDoesNotChangeTheResult) {

@@ -179,10 +179,8 @@ TransportCoefficients LinearSolver::transport_to(const ReceiverPoint& point, int
     const RootCluster& c = st.clusters.tree[cluster_index(shooter)];
     const ShooterTriangles triangles{&st.root_triangles, c.roots};
     // docs/accuracy.md, "A bright part that sees more": the link carries the
-    // cluster's mean as this receiver weights its roots, from the radiance
-    // the cluster holds now.
-    // The luminances are those all its links stand on ("A shape factor that
-    // ages"), not its radiance now.
+    // cluster's mean as this receiver weights its roots, from the luminances
+    // all links from the surface stand on ("A shape factor that ages").
     assert(st.shaped_root_luminance.size() == st.root_triangles.size());
     ShooterShape shape{st.shaped_root_luminance, st.shaped_cluster_luminance[cluster_index(shooter)]};
     const ShooterShape* shape_in = &shape;

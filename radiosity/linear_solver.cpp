@@ -507,9 +507,10 @@ Rgb LinearSolver::gathered(const InteractionGraph& g, int i) const {
 
 double LinearSolver::push() {
   PhaseTimer timer(stats_.seconds_push_pull);
-  std::vector<double> change(model_.num_surfaces(), 0.0), drift(model_.num_surfaces(), 0.0);
+  std::vector<double> drift(model_.num_surfaces(), 0.0);
   // Relative changes are taken against at least 1 % of the adaptation
-  // luminance, as the relative norm is (docs/accuracy.md).
+  // luminance, as the relative norm is (docs/accuracy.md). The largest is
+  // the stopping test's (docs/accuracy.md, "When the iteration stops").
   const double drift_floor = 0.01 * adaptation_;
   constexpr double kNoBound = std::numeric_limits<double>::infinity();
   unoccluded_at_.resize(graphs_.size());
@@ -585,7 +586,6 @@ double LinearSolver::push() {
     for (std::size_t v = 0; v < nv; ++v) {
       for (int c = 0; c < 3; ++c) values[v][c] = m.emission[c] + m.reflectance[c] * total[v][c];
       const double now = luminance(values[v]), moved = std::abs(now - luminance(st.radiance[v]));
-      change[r] = std::max(change[r], moved);
       const double scale = std::max(now, drift_floor);
       const double relative = scale > 0.0 ? moved / scale : (moved > 0.0 ? kNoBound : 0.0);
       drift[r] = std::max(drift[r], relative);
@@ -598,7 +598,7 @@ double LinearSolver::push() {
     pull(r);
   });
   reshape_cluster_links();
-  return *std::max_element(change.begin(), change.end());
+  return *std::max_element(drift.begin(), drift.end());
 }
 
 bool LinearSolver::refine() {
@@ -634,7 +634,6 @@ void LinearSolver::pack_grown_links() {
 }
 
 void LinearSolver::solve(const std::function<void(int, double)>& progress) {
-  const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
   const auto iteration = [&](int, bool last) {
     const std::size_t before = links_now_;
     const bool linked = link_new_shooters();
@@ -643,7 +642,7 @@ void LinearSolver::solve(const std::function<void(int, double)>& progress) {
     const std::size_t cap = budget_.cap();
     if (links_now_ > cap) stats_.links_linked_past_budget += links_now_ - std::max(before, cap);
     run_checkpoint(options_.checkpoint);
-    const double change = push() / scale;
+    const double change = push();
     update_spread();
     update_importance();
     run_checkpoint(options_.checkpoint);

@@ -81,8 +81,9 @@ struct LinearOptions {
   // 0 = h/32, less toward surfaces smaller than that (radiosity/element_floor.hpp).
   double min_edge = 0.0;
   int max_iterations = 50;
-  // Stop when nothing was refined or linked and no vertex changed by more
-  // than tolerance times the brightest emitted luminance.
+  // Stop when nothing was refined or linked and no vertex's luminance
+  // changed by more than tolerance times itself, taken as at least 1 % of
+  // the adaptation luminance (docs/accuracy.md, "When the iteration stops").
   double tolerance = 1e-4;
   // Progressive linking: surfaces start shooting (get graphs) brightest first,
   // until those left out carry together less than this fraction of the total
@@ -310,6 +311,7 @@ class LinearSolver {
   // F^l B_j^l from the shooter's values of the last pull.
   Rgb gathered(const InteractionGraph& g, int i) const;
   // Gathers every graph and pushes (docs/design.md §4, "Interaction graphs").
+  // Returns the largest relative change of a vertex (`drift`).
   double push();
   void update_importance();
   void carry_importance_back();

@@ -96,7 +96,8 @@ class LinkBudget {
 };
 
 // One iteration's outcome: whether it linked or refined anything, and its
-// largest change relative to the brightest emitted luminance.
+// largest change in the solver's measure (linear: relative to each value;
+// classical: relative to the brightest emitted luminance).
 struct IterationOutcome {
   bool changed = false;
   double change = 0.0;

@@ -629,10 +629,6 @@ bool LinearSolver::refine() {
   return changed;
 }
 
-void LinearSolver::pack_grown_links() {
-  tbb::parallel_for(std::size_t{0}, graphs_.size(), [&](std::size_t g) { graphs_[g].pack_links(); });
-}
-
 void LinearSolver::solve(const std::function<void(int, double)>& progress) {
   const auto iteration = [&](int, bool last) {
     const std::size_t before = links_now_;

@@ -352,8 +352,6 @@ class LinearSolver {
   };
   Coarsening coarsen_links(int g);
   bool refine_receivers(std::vector<PendingLink>& pending, const ToneMap& tone);
-  // Every graph's grown link lists back into its one array (InteractionGraph::pack_links).
-  void pack_grown_links();
   class ReceiverTests;
   std::vector<NodeId> receiver_leaves_to_split(int graph, const ToneMap& tone);
   bool split_receiver_leaves(int graph, const std::vector<NodeId>& to_split, std::vector<PendingLink>& pending);

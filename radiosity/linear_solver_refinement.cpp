@@ -344,10 +344,12 @@ std::vector<std::uint8_t> LinearSolver::coarsen_due_graphs() {
 bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
   // Paper §4.2: a link whose largest basis contribution, reflected and seen by
   // the camera, is significant is replaced by links from the shooter's
-  // children, recursively (a pass per level). The first pass takes the
-  // links graph by graph, in the order a list of all of them would have:
-  // such a list is as large as the links themselves and would double the
-  // memory --max-memory bounds (docs/robustness.md).
+  // children, recursively (a pass per level). The passes run graph by
+  // graph: a verdict reads only its own graph's links, so the links are
+  // those of passes over all graphs at once, while the lists of links to
+  // judge and to draw stay one graph's. Lists over all graphs were as large
+  // as the links they named and, uncounted, doubled what --max-memory
+  // bounds at its peak (docs/robustness.md, "Budgets").
   //
   // A graph's links are judged again only when what their verdicts read has
   // moved (docs/design.md, "One iteration"), as for the receiver oracle: new
@@ -359,8 +361,7 @@ bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
   // were judged in that iteration's later passes.
   if (options_.checkpoint) options_.checkpoint();
   bool changed = false;
-  std::vector<PendingLink> created;
-  std::vector<PendingLink> candidates;
+  std::vector<PendingLink> candidates, created;
   for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
     if (!due[gi]) continue;
     const InteractionGraph& g = graphs_[gi];
@@ -368,19 +369,15 @@ bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
     for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
       for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
     }
-    changed |= split_shooters(candidates, created);
+    for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
+      if (options_.checkpoint) options_.checkpoint();
+      created.clear();
+      changed |= split_shooters(candidates, created);
+      compute_coefficients(created);
+      std::swap(candidates, created);
+    }
     // Packed graph by graph: a list that grows is copied out until then.
     graphs_[gi].pack_links();
-  }
-  compute_coefficients(created);
-  candidates = std::move(created);
-  for (int pass = 1; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
-    if (options_.checkpoint) options_.checkpoint();
-    std::vector<PendingLink> next;
-    changed |= split_shooters(candidates, next);
-    pack_grown_links();
-    compute_coefficients(next);
-    candidates = std::move(next);
   }
   return changed;
 }

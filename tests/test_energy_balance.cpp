@@ -205,7 +205,6 @@ TEST(EnergyBalance, RescaledClusterLinksTakeOutTheExcessAsDrawingAgainDoes) {
   EXPECT_NEAR(by_rescaling, by_drawing, 0.002) << "as made " << as_made;
 }
 
-
 // docs/accuracy.md, "When the iteration stops": the stopping test is
 // relative to each value, so the walls of a room lit by a lamp a hundred
 // times brighter than they are must have converged when the solve stops,

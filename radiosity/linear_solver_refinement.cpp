@@ -344,12 +344,12 @@ std::vector<std::uint8_t> LinearSolver::coarsen_due_graphs() {
 bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
   // Paper §4.2: a link whose largest basis contribution, reflected and seen by
   // the camera, is significant is replaced by links from the shooter's
-  // children, recursively (a pass per level). The passes run graph by
-  // graph: a verdict reads only its own graph's links, so the links are
-  // those of passes over all graphs at once, while the lists of links to
-  // judge and to draw stay one graph's. Lists over all graphs were as large
-  // as the links they named and, uncounted, doubled what --max-memory
-  // bounds at its peak (docs/robustness.md, "Budgets").
+  // children, recursively (a pass per level), each pass over every graph in
+  // turn. A verdict reads only its own graph's links, so each graph's
+  // splits are drawn and packed before the next graph's, and what the next
+  // pass judges is kept graph by graph in 8 bytes a link: a list over all
+  // graphs, as large as the links it named and uncounted, stood at the top
+  // of what --max-memory bounds (docs/robustness.md, "Budgets").
   //
   // A graph's links are judged again only when what their verdicts read has
   // moved (docs/design.md, "One iteration"), as for the receiver oracle: new
@@ -361,23 +361,39 @@ bool LinearSolver::refine_shooters(const std::vector<std::uint8_t>& due) {
   // were judged in that iteration's later passes.
   if (options_.checkpoint) options_.checkpoint();
   bool changed = false;
+  struct LinkAt {
+    std::int32_t vertex;
+    std::uint32_t slot;
+  };
+  std::vector<std::vector<LinkAt>> to_judge(graphs_.size());
   std::vector<PendingLink> candidates, created;
-  for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
-    if (!due[gi]) continue;
-    const InteractionGraph& g = graphs_[gi];
-    candidates.clear();
-    for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
-      for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({static_cast<int>(gi), i, t});
-    }
-    for (int pass = 0; pass < kMaxShooterPasses && !candidates.empty(); ++pass) {
-      if (options_.checkpoint) options_.checkpoint();
+  for (int pass = 0; pass < kMaxShooterPasses; ++pass) {
+    if (pass > 0 && options_.checkpoint) options_.checkpoint();
+    bool split = false;
+    for (std::size_t gi = 0; gi < graphs_.size(); ++gi) {
+      const int graph = static_cast<int>(gi);
+      candidates.clear();
+      if (pass == 0) {
+        if (!due[gi]) continue;
+        const InteractionGraph& g = graphs_[gi];
+        for (int i = 0; i < static_cast<int>(g.num_vertices()); ++i) {
+          for (std::size_t t = 0; t < g.links(i).size(); ++t) candidates.push_back({graph, i, t});
+        }
+      } else {
+        if (to_judge[gi].empty()) continue;
+        for (const LinkAt& l : to_judge[gi]) candidates.push_back({graph, l.vertex, l.slot});
+        std::vector<LinkAt>().swap(to_judge[gi]);
+      }
       created.clear();
       changed |= split_shooters(candidates, created);
       compute_coefficients(created);
-      std::swap(candidates, created);
+      // Packed graph by graph: a list that grows is copied out until then.
+      graphs_[gi].pack_links();
+      to_judge[gi].reserve(created.size());
+      for (const PendingLink& p : created) to_judge[gi].push_back({p.vertex, static_cast<std::uint32_t>(p.slot)});
+      split |= !created.empty();
     }
-    // Packed graph by graph: a list that grows is copied out until then.
-    graphs_[gi].pack_links();
+    if (!split) break;
   }
   return changed;
 }

@@ -168,8 +168,9 @@ std::optional<Vec3> kernel_drawn_point(const Vec3& origin, const Vec3& n, const 
 // the triangle barely rises above x's horizon; a point drawn by area that
 // x faces stands in, so that a link hidden by its shooter's every triangle
 // still has a ray that says so. nullopt where x faces no such point.
-// `triangle` is the corners' from origin and `bound` its cosine_bound (0
-// where it is not valid): set up once for all the rays a triangle gets.
+// `triangle` is the spherical triangle the corners make seen from origin, and
+// `bound` its cosine_bound (0 where it is not valid): set up once for all the
+// rays a triangle gets.
 std::optional<Vec3> cosine_drawn_point(const Vec3& origin, const Vec3& n, const std::array<Vec3, 3>& corners,
                                        const SphericalTriangle& triangle, double bound, const Vec3& ny,
                                        double height, std::uint64_t key) {

@@ -83,9 +83,9 @@ int run_solve(const Args& args) {
        "\"Limits the user controls\")")
       ("max-iterations", po::value<int>(), "iteration limit (default: linear 50, classical 100)")
       ("tolerance", po::value<double>(),
-       "stop when no value changes by more than this fraction: linear, of the value itself (at least 1 % of "
-       "the adaptation luminance), so a dim wall beside a bright lamp has converged too; classical, of the "
-       "brightest emitted radiance (default: linear 1e-4, classical 1e-5)")
+       "stop when no value changes by more than this fraction of itself (at least 1 % of the adaptation "
+       "luminance; classical: of the scene's log-average), so a dim wall beside a bright lamp has converged "
+       "too (default 1e-4)")
       ("max-links", po::value<std::size_t>()->default_value(0), "stop refining at this many links (0: no limit)")
       ("max-memory", po::value<std::string>()->default_value("auto"),
        "stop refining before the radiosity data (hierarchies, values, graphs, links: stats.json bytes.total) "

@@ -545,7 +545,9 @@ double ClassicalSolver::push_pull() {
       Rgb value;
       if (h.is_leaf(n)) {
         for (int c = 0; c < 3; ++c) value[c] = m.emission[c] + m.reflectance[c] * total[c];
-        change[s] = std::max(change[s], std::abs(luminance(value) - luminance(st.radiance[n])));
+        const double now = luminance(value), moved = std::abs(now - luminance(st.radiance[n]));
+        const double scale = std::max(now, change_floor_);
+        change[s] = std::max(change[s], scale > 0.0 ? moved / scale : 0.0);
       } else {
         value = Rgb(0, 0, 0);
         for (int c = 0; c < 4; ++c) value += self(self, h.child(n, c), total);
@@ -568,13 +570,24 @@ double ClassicalSolver::push_pull() {
     }
     update_spread(s);
   });
+  // As the linear method's floor, with the scene seen face-on for a camera.
+  constexpr double kDelta = 1e-6;  // as the images' log-average (render/)
+  double log_sum = 0.0, area = 0.0;
+  for (int s = 0; s < model_.num_surfaces(); ++s) {
+    const SurfaceHierarchy& h = model_.hierarchy(s);
+    for (std::size_t f = 0; f < h.num_roots(); ++f) {
+      const double a = model_.area(s, static_cast<NodeId>(f));
+      log_sum += a * std::log(kDelta + std::max(0.0, luminance(surfaces_[s].radiance[f])));
+      area += a;
+    }
+  }
+  change_floor_ = area > 0.0 ? 0.01 * std::exp(log_sum / area) : 0.0;
   return *std::max_element(change.begin(), change.end());
 }
 
 void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
   link_surfaces();
   push_pull();  // leaves start at their emission
-  const double scale = max_emitted_ > 0 ? max_emitted_ : 1.0;
   const auto iteration = [&](int, bool) {
     bool refined = false;
     for (int pass = 0; pass < kMaxRefinePasses; ++pass) {
@@ -584,7 +597,7 @@ void ClassicalSolver::solve(const std::function<void(int, double)>& progress) {
     }
     run_checkpoint(options_.checkpoint);
     gather();
-    return IterationOutcome{refined, push_pull() / scale};
+    return IterationOutcome{refined, push_pull()};
   };
   iterate_until_converged(options_.max_iterations, options_.tolerance, options_.checkpoint, iteration, progress,
                           stats_);

@@ -43,9 +43,11 @@ struct ClassicalOptions {
   // 0 = h/32, less toward surfaces smaller than that (radiosity/element_floor.hpp).
   double min_edge = 0.0;
   int max_iterations = 100;
-  // Stop when no link was refined and no leaf radiance changed by more than
-  // tolerance times the brightest emitted luminance.
-  double tolerance = 1e-5;
+  // Stop when no link was refined and no leaf's luminance changed by more
+  // than tolerance times itself, taken as at least 1 % of the scene's
+  // area-weighted log-average luminance (docs/accuracy.md, "When the
+  // iteration stops"): the linear method's test.
+  double tolerance = 1e-4;
   int visibility_samples = 4;  // k: k² shadow rays per element link
   std::size_t max_links = 0;   // 0 = no limit
   // Memory of the radiosity data (ClassicalStats::bytes_total()), bytes;
@@ -138,6 +140,7 @@ class ClassicalSolver {
   float coefficient(const Element& receiver, const Element& shooter, std::uint64_t& rays) const;
   double estimate_form_factor(const Element& receiver, const Element& shooter) const;
   void gather();
+  // Returns the largest relative change of a leaf (ClassicalOptions::tolerance).
   double push_pull();
   void sync_node_arrays(int s);
   static bool is_cluster(const Element& e) { return e.node <= kSurfaceElement; }
@@ -159,6 +162,9 @@ class ClassicalSolver {
   // summed test (radiance units; π left out on both sides).
   double emitted_power_ = 0.0;
   ElementFloor floor_;
+  // 1 % of the area-weighted log-average luminance of the roots at the last
+  // push_pull: the least a relative change is taken against.
+  double change_floor_ = 0.0;
   LinkBudget budget_;
   ClassicalStats stats_;
 };

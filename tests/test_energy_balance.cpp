@@ -253,5 +253,47 @@ TEST(EnergyBalance, TheIterationStopsWhenTheDimWallsHaveConvergedToo) {
   EXPECT_GT(worst, 0.0) << "the converged solve must have gone further";
 }
 
+// The classical method's --tolerance means the same (docs/accuracy.md, "When
+// the iteration stops"): the same room on its first links (ε_BF too coarse
+// to refine any), its leaves at the default tolerance against the same solve
+// converged to 10⁻⁹.
+TEST(EnergyBalance, TheClassicalIterationStopsWhenTheDimWallsHaveConvergedToo) {
+  const Scene scene = bright_closed_room();
+  MeshingOptions meshing;
+  meshing.max_edge = default_max_edge(scene);
+  MeshedScene model(scene, meshing);
+  const auto solve = [&](double tolerance, int max_iterations) {
+    ClassicalOptions options;
+    options.eps_bf = 1e9;
+    options.tolerance = tolerance;
+    options.max_iterations = max_iterations;
+    ClassicalSolver solver(model, options);
+    solver.solve();
+    std::vector<std::vector<Rgb>> values(model.num_surfaces());
+    for (int s = 0; s < model.num_surfaces(); ++s) {
+      for (NodeId leaf : model.hierarchy(s).leaves()) values[s].push_back(solver.radiance(s, leaf));
+    }
+    return std::pair(values, solver.stats().iterations);
+  };
+  const ClassicalOptions defaults;
+  const auto [stopped, iterations] = solve(defaults.tolerance, defaults.max_iterations);
+  const auto [converged, converged_iterations] = solve(1e-9, 400);
+  ASSERT_LT(iterations, defaults.max_iterations);
+  ASSERT_LT(converged_iterations, 400);
+  double worst = 0.0;
+  for (int s = 0; s < model.num_surfaces(); ++s) {
+    ASSERT_EQ(stopped[s].size(), converged[s].size());
+    for (std::size_t k = 0; k < stopped[s].size(); ++k) {
+      const double truth = luminance(converged[s][k]);
+      ASSERT_GT(truth, 0.0) << "a closed room is lit everywhere";
+      worst = std::max(worst, std::abs(luminance(stopped[s][k]) - truth) / truth);
+    }
+  }
+  ::testing::Test::RecordProperty("worst", std::to_string(worst));
+  ::testing::Test::RecordProperty("iterations", iterations);
+  EXPECT_LT(worst, 10.0 * defaults.tolerance) << "stopped after " << iterations << " iterations";
+  EXPECT_GT(worst, 0.0) << "the converged solve must have gone further";
+}
+
 }  // namespace
 }  // namespace lhr

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "io/scene_loader.hpp"
@@ -205,6 +206,24 @@ TEST(EnergyBalance, RescaledClusterLinksTakeOutTheExcessAsDrawingAgainDoes) {
   EXPECT_NEAR(by_rescaling, by_drawing, 0.002) << "as made " << as_made;
 }
 
+// The largest relative difference in luminance between a solve's values and
+// the same solve's converged, value by value; infinite where the converged
+// value is not positive (a closed room is lit everywhere).
+double worst_relative_difference(const std::vector<std::vector<Rgb>>& stopped,
+                                 const std::vector<std::vector<Rgb>>& converged) {
+  double worst = 0.0;
+  EXPECT_EQ(stopped.size(), converged.size());
+  for (std::size_t s = 0; s < std::min(stopped.size(), converged.size()); ++s) {
+    EXPECT_EQ(stopped[s].size(), converged[s].size());
+    for (std::size_t k = 0; k < std::min(stopped[s].size(), converged[s].size()); ++k) {
+      const double truth = luminance(converged[s][k]);
+      if (!(truth > 0.0)) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, std::abs(luminance(stopped[s][k]) - truth) / truth);
+    }
+  }
+  return worst;
+}
+
 // docs/accuracy.md, "When the iteration stops": the stopping test is
 // relative to each value, so the walls of a room lit by a lamp a hundred
 // times brighter than they are must have converged when the solve stops,
@@ -238,15 +257,7 @@ TEST(EnergyBalance, TheIterationStopsWhenTheDimWallsHaveConvergedToo) {
   const auto [converged, converged_iterations] = solve(1e-9, 400);
   ASSERT_LT(iterations, defaults.max_iterations);
   ASSERT_LT(converged_iterations, 400);
-  double worst = 0.0;
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    ASSERT_EQ(stopped[s].size(), converged[s].size());
-    for (std::size_t v = 0; v < stopped[s].size(); ++v) {
-      const double truth = luminance(converged[s][v]);
-      ASSERT_GT(truth, 0.0) << "a closed room is lit everywhere";
-      worst = std::max(worst, std::abs(luminance(stopped[s][v]) - truth) / truth);
-    }
-  }
+  const double worst = worst_relative_difference(stopped, converged);
   ::testing::Test::RecordProperty("worst", std::to_string(worst));
   ::testing::Test::RecordProperty("iterations", iterations);
   EXPECT_LT(worst, 10.0 * defaults.tolerance) << "stopped after " << iterations << " iterations";
@@ -280,15 +291,7 @@ TEST(EnergyBalance, TheClassicalIterationStopsWhenTheDimWallsHaveConvergedToo) {
   const auto [converged, converged_iterations] = solve(1e-9, 400);
   ASSERT_LT(iterations, defaults.max_iterations);
   ASSERT_LT(converged_iterations, 400);
-  double worst = 0.0;
-  for (int s = 0; s < model.num_surfaces(); ++s) {
-    ASSERT_EQ(stopped[s].size(), converged[s].size());
-    for (std::size_t k = 0; k < stopped[s].size(); ++k) {
-      const double truth = luminance(converged[s][k]);
-      ASSERT_GT(truth, 0.0) << "a closed room is lit everywhere";
-      worst = std::max(worst, std::abs(luminance(stopped[s][k]) - truth) / truth);
-    }
-  }
+  const double worst = worst_relative_difference(stopped, converged);
   ::testing::Test::RecordProperty("worst", std::to_string(worst));
   ::testing::Test::RecordProperty("iterations", iterations);
   EXPECT_LT(worst, 10.0 * defaults.tolerance) << "stopped after " << iterations << " iterations";
